@@ -1,0 +1,393 @@
+"""The rollout engine: many controllers x many start states, stepped together.
+
+One control step for every live episode at once::
+
+    obs    = paper_inputs(qpos, sensordata)          # (n, 9), one NumPy call
+    deltas = controller.act(params, memory, obs, t)  # (n, 4), one batched call
+    ctrl   = apply_deltas(ctrl, deltas, ranges)      # servo targets
+    batch.step(nstep=substeps)                       # mujoco.batch, C threads
+
+Episodes are independent rows, so a job can be split anywhere (threads,
+processes, hosts) and give bit-identical results; :func:`reference_rollout` is
+the plain one-``MjData``-per-episode loop the engine is tested against.
+
+An episode whose simulation goes unstable (non-finite state, a MuJoCo
+instability warning or error) stops stepping: it is flagged in
+``RolloutResult.unstable`` and its remaining records repeat its last ones; the
+behaviours give it the worst fitness.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Protocol
+
+import mujoco
+import numpy as np
+from mujoco.batch import Batch, SimulationError
+
+from locustjump import model as lm
+from locustjump import sensors
+from locustjump.controller import Controller
+
+#: What can be recorded per control step, and its per-step shape.
+RECORDABLE = ("qpos", "obs", "ctrl", "memory")
+_BADQACC = int(mujoco.mjtWarning.mjWARN_BADQACC)
+
+
+@dataclass(frozen=True)
+class StartStates:
+    """Physical start states: ``qpos (k, nq)``, ``qvel (k, nv)``, ``ctrl (k, nu)``."""
+
+    qpos: np.ndarray
+    qvel: np.ndarray
+    ctrl: np.ndarray
+
+    def __post_init__(self) -> None:
+        k = self.qpos.shape[0]
+        if self.qvel.shape[0] != k or self.ctrl.shape[0] != k:
+            raise ValueError("StartStates arrays must have the same first dimension")
+
+    def __len__(self) -> int:
+        return self.qpos.shape[0]
+
+    def take(self, idx: np.ndarray | Sequence[int]) -> StartStates:
+        return StartStates(self.qpos[idx], self.qvel[idx], self.ctrl[idx])
+
+    @classmethod
+    def ready(cls, m: mujoco.MjModel) -> StartStates:
+        """The settled ready-to-jump start state of Fig. 4 (keyframe ``ready``)."""
+        key = m.key(lm.READY_KEY)
+        return cls(key.qpos[None].copy(), key.qvel[None].copy(), key.ctrl[None].copy())
+
+    @classmethod
+    def concat(cls, states: Sequence[StartStates]) -> StartStates:
+        return cls(
+            *(
+                np.concatenate([getattr(s, f) for s in states])
+                for f in ("qpos", "qvel", "ctrl")
+            )
+        )
+
+
+@dataclass(frozen=True)
+class RolloutJob:
+    """Everything one rollout needs; picklable, so any backend can ship it.
+
+    Episode ``e`` runs controller parameters ``params[e]`` from start state
+    ``e`` of ``starts`` for ``n_steps`` control steps.
+    """
+
+    model_params: lm.LocustParams
+    controller: Controller
+    params: np.ndarray  # (n, num_params)
+    starts: StartStates  # n states
+    n_steps: int
+    record: tuple[str, ...] = ("qpos", "obs")
+
+    def __post_init__(self) -> None:
+        if self.n_steps < 1:
+            raise ValueError(f"n_steps must be >= 1, got {self.n_steps}")
+        if self.params.ndim != 2 or self.params.shape[1] != self.controller.num_params:
+            raise ValueError(
+                f"params has shape {self.params.shape}, expected "
+                f"(n, {self.controller.num_params})"
+            )
+        if self.params.shape[0] != len(self.starts):
+            raise ValueError("params and starts must have one row per episode")
+        unknown = set(self.record) - set(RECORDABLE)
+        if unknown:
+            raise ValueError(
+                f"cannot record {sorted(unknown)}; choose from {RECORDABLE}"
+            )
+
+    @property
+    def n_episodes(self) -> int:
+        return self.params.shape[0]
+
+    def split(self, k: int) -> list[RolloutJob]:
+        """At most ``k`` contiguous sub-jobs covering all episodes, in order."""
+        bounds = np.linspace(0, self.n_episodes, min(k, self.n_episodes) + 1)
+        bounds = bounds.round().astype(int)
+        return [
+            RolloutJob(
+                self.model_params,
+                self.controller,
+                self.params[a:b],
+                self.starts.take(slice(a, b)),
+                self.n_steps,
+                self.record,
+            )
+            for a, b in zip(bounds[:-1], bounds[1:], strict=True)
+            if b > a
+        ]
+
+
+@dataclass
+class RolloutResult:
+    """Per-episode arrays of a rollout.
+
+    Attributes:
+      records: name -> (n, n_steps + 1, ...) array; row 0 is the start state,
+        row t the state after control step t.
+      unstable: (n,) bool, the episode went unstable and stopped.
+      steps: (n,) int, control steps actually simulated.
+    """
+
+    records: dict[str, np.ndarray]
+    unstable: np.ndarray
+    steps: np.ndarray
+    control_steps: int = field(default=0)  # total control steps simulated
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        return self.records[name]
+
+    @classmethod
+    def concat(cls, parts: Sequence[RolloutResult]) -> RolloutResult:
+        names = parts[0].records.keys()
+        return cls(
+            {k: np.concatenate([p.records[k] for p in parts]) for k in names},
+            np.concatenate([p.unstable for p in parts]),
+            np.concatenate([p.steps for p in parts]),
+            sum(p.control_steps for p in parts),
+        )
+
+
+class Backend(Protocol):
+    """Runs a :class:`RolloutJob`; every backend gives bit-identical results."""
+
+    def run(self, job: RolloutJob) -> RolloutResult: ...
+
+
+def default_threads() -> int:
+    """Threads to use by default: the CPUs this process may run on."""
+    return (
+        len(os.sched_getaffinity(0))
+        if hasattr(os, "sched_getaffinity")
+        else (os.cpu_count() or 1)
+    )
+
+
+class ThreadBackend:
+    """Steps all episodes in one ``mujoco.batch.Batch`` on ``threads`` C threads.
+
+    Batches are cached per episode count, so a GA that evaluates the same
+    population size every generation builds its batch once.
+    """
+
+    def __init__(self, threads: int | None = None):
+        self.threads = default_threads() if threads is None else int(threads)
+        if self.threads < 1:
+            raise ValueError(f"threads must be >= 1, got {threads}")
+        self._batches: dict[tuple[lm.LocustParams, int], Batch] = {}
+
+    def _batch(self, p: lm.LocustParams, n: int) -> Batch:
+        key = (p, n)
+        if key not in self._batches:
+            self._batches[key] = Batch(
+                lm.load_model(p), n, min(self.threads, n), persistent=True
+            )
+        return self._batches[key]
+
+    def run(self, job: RolloutJob) -> RolloutResult:
+        return _run_batch(self._batch(job.model_params, job.n_episodes), job)
+
+
+def _run_batch(batch: Batch, job: RolloutJob) -> RolloutResult:
+    m = batch.model
+    p = job.model_params
+    idx = lm.ModelIndex.of(m)
+    n, T = job.n_episodes, job.n_steps
+    batch.reset()
+    qpos, qvel, ctrl = batch.bind("qpos"), batch.bind("qvel"), batch.bind("ctrl")
+    sens = batch.bind("sensordata")
+    warn = batch.warning
+    qpos[:] = job.starts.qpos
+    qvel[:] = job.starts.qvel
+    ctrl[:] = job.starts.ctrl
+    batch.forward()  # sensors at the start state, for every simulation
+
+    ctl = job.controller
+    memory = np.zeros((n, ctl.memory_size))
+    rec = _Recorder(job.record, n, T, m.nq, ctl.memory_size)
+    obs = sensors.paper_inputs(
+        qpos,
+        sens,
+        joint_adr=idx.qpos_joints,
+        touch_adr=idx.touch,
+        body_length=p.body_length,
+    )
+    rec.write(0, qpos, obs, ctrl, memory)
+    unstable = np.zeros(n, bool)
+    steps = np.full(n, T)
+    alive: np.ndarray | None = None  # None: all alive (no index array per step)
+    done = 0
+    for t in range(T):
+        deltas, memory = ctl.act(job.params, memory, obs, ctrl, t)
+        new = sensors.apply_deltas(ctrl, deltas, idx.ranges)
+        if alive is None:
+            ctrl[:] = new
+        else:
+            ctrl[alive] = new[alive]
+        try:
+            batch.step(alive, nstep=p.substeps)
+        except SimulationError as e:  # MuJoCo errors: those sims kept their state
+            warn_ids = e.ids
+        else:
+            warn_ids = None
+        done += n if alive is None else len(alive)
+        bad = (warn[:, _BADQACC, 1] > 0) | ~np.isfinite(qpos).all(axis=1)
+        if warn_ids is not None:
+            bad[warn_ids] = True
+        newly = bad & ~unstable
+        if newly.any():
+            unstable |= newly
+            steps[newly] = t + 1
+            alive = np.flatnonzero(~unstable)
+            # keep the last finite state of a failed episode in the records
+            qpos[newly] = np.nan_to_num(qpos[newly])
+            if alive.size == 0:
+                rec.fill_from(t + 1)
+                break
+        obs = sensors.paper_inputs(
+            qpos,
+            sens,
+            joint_adr=idx.qpos_joints,
+            touch_adr=idx.touch,
+            body_length=p.body_length,
+        )
+        rec.write(t + 1, qpos, obs, ctrl, memory, frozen=unstable)
+    return RolloutResult(rec.arrays, unstable, steps, done)
+
+
+class _Recorder:
+    """Per-step copies of the requested fields; failed episodes repeat their last."""
+
+    def __init__(self, names: Sequence[str], n: int, T: int, nq: int, nmem: int):
+        shape = {
+            "qpos": (nq,),
+            "obs": (sensors.N_INPUTS,),
+            "ctrl": (sensors.N_ACTUATORS,),
+            "memory": (nmem,),
+        }
+        self.arrays = {k: np.empty((n, T + 1, *shape[k])) for k in names}
+
+    def write(self, t, qpos, obs, ctrl, memory, frozen=None) -> None:
+        src = {"qpos": qpos, "obs": obs, "ctrl": ctrl, "memory": memory}
+        for k, a in self.arrays.items():
+            a[:, t] = src[k]
+            if frozen is not None and frozen.any():
+                a[frozen, t] = a[frozen, t - 1]
+
+    def fill_from(self, t: int) -> None:
+        for a in self.arrays.values():
+            a[:, t:] = a[:, t - 1 : t]
+
+
+def reference_rollout(job: RolloutJob) -> RolloutResult:
+    """The plain, obviously-correct loop: one ``MjData`` per episode.
+
+    Slow; kept to test the engine against (same results, bit for bit).
+    """
+    m = lm.load_model(job.model_params)
+    p = job.model_params
+    idx = lm.ModelIndex.of(m)
+    parts = []
+    for e in range(job.n_episodes):
+        d = mujoco.MjData(m)
+        d.qpos[:], d.qvel[:], d.ctrl[:] = (
+            job.starts.qpos[e],
+            job.starts.qvel[e],
+            job.starts.ctrl[e],
+        )
+        mujoco.mj_forward(m, d)
+        params = job.params[e : e + 1]
+        memory = np.zeros((1, job.controller.memory_size))
+        rec = _Recorder(job.record, 1, job.n_steps, m.nq, job.controller.memory_size)
+
+        def observe():
+            return sensors.paper_inputs(
+                d.qpos[None],
+                d.sensordata[None],
+                joint_adr=idx.qpos_joints,
+                touch_adr=idx.touch,
+                body_length=p.body_length,
+            )
+
+        obs = observe()
+        rec.write(0, d.qpos[None], obs, d.ctrl[None], memory)
+        unstable, steps = False, job.n_steps
+        for t in range(job.n_steps):
+            deltas, memory = job.controller.act(params, memory, obs, d.ctrl[None], t)
+            d.ctrl[:] = sensors.apply_deltas(d.ctrl[None], deltas, idx.ranges)[0]
+            try:
+                mujoco.mj_step(m, d, nstep=p.substeps)
+            except mujoco.FatalError:
+                unstable = True
+            if (
+                unstable
+                or d.warning[_BADQACC].number > 0
+                or not np.isfinite(d.qpos).all()
+            ):
+                unstable, steps = True, t + 1
+                rec.fill_from(t + 1)
+                break
+            obs = observe()
+            rec.write(t + 1, d.qpos[None], obs, d.ctrl[None], memory)
+        parts.append(
+            RolloutResult(rec.arrays, np.array([unstable]), np.array([steps]), steps)
+        )
+    return RolloutResult.concat(parts)
+
+
+_default_backend: Backend | None = None
+
+
+def get_backend(backend: Backend | None = None) -> Backend:
+    """``backend`` or the process-wide default :class:`ThreadBackend`."""
+    global _default_backend
+    if backend is not None:
+        return backend
+    if _default_backend is None:
+        _default_backend = ThreadBackend()
+    return _default_backend
+
+
+def rollout(
+    controller: Controller,
+    params: np.ndarray,
+    starts: StartStates,
+    n_steps: int,
+    *,
+    model_params: lm.LocustParams = lm.LocustParams(),
+    record: Sequence[str] = ("qpos", "obs"),
+    backend: Backend | None = None,
+) -> RolloutResult:
+    """Evaluate every controller from every start state.
+
+    Args:
+      controller: the batched controller (e.g. ``MLP()``).
+      params: (n_ctrl, num_params) one parameter row per controller.
+      starts: k start states.
+      n_steps: control steps per episode (1/120 s each).
+      model_params: the creature.
+      record: fields to record per control step (see ``RECORDABLE``).
+      backend: where to run; default: local threads.
+
+    Returns:
+      A :class:`RolloutResult` with ``n_ctrl * k`` episodes, controller-major:
+      episode ``c * k + s`` is controller ``c`` from start state ``s``.
+    """
+    params = np.atleast_2d(np.asarray(params, dtype=np.float64))
+    k = len(starts)
+    job = RolloutJob(
+        model_params,
+        controller,
+        np.repeat(params, k, axis=0),
+        starts.take(np.tile(np.arange(k), params.shape[0])),
+        int(n_steps),
+        tuple(record),
+    )
+    return get_backend(backend).run(job)

@@ -1,0 +1,119 @@
+"""The paper's rule-based successive jumping (§2.2), as a batched controller.
+
+Two fixed motions:
+
+* *kick*: drive the servo targets at the maximum rate (10 deg per control step)
+  to the extended posture (``LocustParams.kick_hip/kick_knee``);
+* *kick legs back*: drive them at the maximum rate back to phi, the
+  ready-to-jump posture.
+
+The *touch time* counts control steps while a hind tarsus touches the ground
+and is reset to 0 when none does. When the touch time has reached the *change
+time* and a tarsus touches, the creature kicks; otherwise it pulls its legs
+back. The default change time comes from a small search
+(``scripts/tune_change_time.py``, ``docs/physics.md``), as the paper's rules
+came from trial and error.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from locustjump import model as lm
+from locustjump.model import CONTROL_DT
+from locustjump.sensors import MAX_DELTA
+
+#: (Seconds) default change time, from scripts/tune_change_time.py
+DEFAULT_CHANGE_TIME = 0.25
+
+
+@dataclass(frozen=True)
+class RuleController:
+    """Touch-time/change-time rules; ``params`` (n, 1): change time in steps.
+
+    Memory per episode: the touch time in control steps.
+    """
+
+    ready: tuple[float, ...]  # (rad) phi, order I1–I4
+    extended: tuple[float, ...]  # (rad) kick posture
+
+    @classmethod
+    def for_model(cls, p: lm.LocustParams = lm.LocustParams()) -> RuleController:
+        return cls(tuple(p.ready_angles()), tuple(p.kick_angles()))
+
+    @property
+    def num_params(self) -> int:
+        return 1
+
+    @property
+    def memory_size(self) -> int:
+        return 1
+
+    @staticmethod
+    def params_for(change_time: float | np.ndarray) -> np.ndarray:
+        """(n, 1) params from change time(s) in seconds."""
+        t = np.atleast_1d(np.asarray(change_time, dtype=np.float64))
+        if (t < 0).any():
+            raise ValueError("change time must be >= 0 seconds")
+        return np.round(t / CONTROL_DT)[:, None]
+
+    def act(
+        self,
+        params: np.ndarray,
+        memory: np.ndarray,
+        obs: np.ndarray,
+        targets: np.ndarray,
+        step: int,
+    ) -> tuple[np.ndarray, np.ndarray]:
+        touching = obs[:, 4] < 0
+        touch_time = np.where(touching, memory[:, 0] + 1, 0.0)
+        kick = touching & (touch_time >= params[:, 0])
+        goal = np.where(kick[:, None], self.extended, self.ready)
+        deltas = np.clip(goal - targets, -MAX_DELTA, MAX_DELTA)
+        return deltas, touch_time[:, None]
+
+
+@dataclass(frozen=True)
+class RulesRun:
+    """One rule-based episode: records (T + 1 rows) and its jumps."""
+
+    qpos: np.ndarray
+    obs: np.ndarray
+    ctrl: np.ndarray
+    jumps: list
+    change_time: float
+    unstable: bool
+
+
+def run_rules(
+    change_time: float = DEFAULT_CHANGE_TIME,
+    steps: int = 3000,
+    *,
+    model_params: lm.LocustParams = lm.LocustParams(),
+) -> RulesRun:
+    """Run the rule-based successive jumping from the Fig. 4 start state."""
+    from locustjump.analysis import find_jumps
+    from locustjump.rollout import StartStates, rollout
+
+    if steps < 1:
+        raise ValueError(f"steps must be >= 1, got {steps}")
+    rc = RuleController.for_model(model_params)
+    res = rollout(
+        rc,
+        rc.params_for(change_time),
+        StartStates.ready(lm.load_model(model_params)),
+        steps,
+        model_params=model_params,
+        record=("qpos", "obs", "ctrl"),
+    )
+    qpos = res["qpos"][0]
+    return RulesRun(
+        qpos,
+        res["obs"][0],
+        res["ctrl"][0],
+        find_jumps(qpos, model_params),
+        float(change_time),
+        bool(res.unstable[0]),
+    )
