@@ -16,7 +16,7 @@ class UserError(Exception):
 
 
 def prepare_out_dir(path: str | os.PathLike, *, force: bool = False) -> Path:
-    """Create ``path`` for writing; refuse an existing non-empty one unless ``force``."""
+    """Create ``path``; refuse an existing non-empty one unless ``force``."""
     out = Path(path)
     if out.exists() and not out.is_dir():
         raise UserError(f"--out {out}: exists and is not a directory")

@@ -81,7 +81,7 @@ class LocustParams:
     # Extended posture of the rule-based kick (and of the max-rate kick of the
     # physics gates): chosen by the kick fitness E (docs/physics.md).
     kick_hip: float = 80.0  # (deg)
-    kick_knee: float = 160.0  # (deg)
+    kick_knee: float = 130.0  # (deg)
 
     # Servos (position actuators) and joint dynamics, at real scale.
     servo_kp: float = 2.0e-4  # (N m/rad)
@@ -91,9 +91,9 @@ class LocustParams:
     joint_armature: float = 1.0e-8  # (kg m^2) hind hinges
 
     # Simulation.
-    substeps: int = 3  # physics steps per control step
+    substeps: int = 6  # physics steps per control step
     integrator: str = "implicitfast"
-    solref: tuple[float, float] = (0.006, 1.0)  # (s, -) contact time constant, damping
+    solref: tuple[float, float] = (0.003, 1.0)  # (s, -) contact time constant, damping
     solimp: tuple[float, float, float] = (0.9, 0.95, 0.001)  # (-, -, m) impedance
     friction: float = 1.0  # (-) sliding friction coefficient
     iterations: int = 50
@@ -176,6 +176,7 @@ def to_mjcf(p: LocustParams = LocustParams(), *, keyframe: bool = True) -> str:
     """
     s = p.scale
     s5 = s**5
+    flim = p.servo_force_limit * s5
     h0 = standing_height(p)
     lo_h, hi_h = p.hip_range
     lo_k, hi_k = p.knee_range
@@ -224,6 +225,7 @@ def to_mjcf(p: LocustParams = LocustParams(), *, keyframe: bool = True) -> str:
         f'<touch name="touch_{side}" site="tarsus_site_{side}"/>' for side in "lr"
     )
     bl = p.body_length
+    head_x = (p.body_half_length + p.head_radius) * s
     xml = f"""<mujoco model="locust">
   <compiler angle="degree" autolimits="true"/>
   <option timestep="{p.timestep:.12g}" integrator="{p.integrator}" cone="pyramidal"
@@ -255,7 +257,7 @@ def to_mjcf(p: LocustParams = LocustParams(), *, keyframe: bool = True) -> str:
     <default class="servo">
       <position kp="{p.servo_kp * s5:.9g}" kv="{p.servo_kv * s5:.9g}"
                 inheritrange="1"
-                forcerange="{-p.servo_force_limit * s5:.9g} {p.servo_force_limit * s5:.9g}"/>
+                forcerange="{-flim:.9g} {flim:.9g}"/>
     </default>
   </default>
   <worldbody>
@@ -270,7 +272,7 @@ def to_mjcf(p: LocustParams = LocustParams(), *, keyframe: bool = True) -> str:
               xyaxes="1 0 0 0 0.2 1"/>
       <geom name="body" type="capsule" fromto="{-p.body_half_length * s:.9g} 0 0
             {p.body_half_length * s:.9g} 0 0" size="{p.body_radius * s:.9g}"/>
-      <geom name="head" type="sphere" pos="{(p.body_half_length + p.head_radius) * s:.9g} 0 0"
+      <geom name="head" type="sphere" pos="{head_x:.9g} 0 0"
             size="{p.head_radius * s:.9g}"/>
       {legs}
     </body>

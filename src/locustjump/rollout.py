@@ -12,7 +12,7 @@ processes, hosts) and give bit-identical results; :func:`reference_rollout` is
 the plain one-``MjData``-per-episode loop the engine is tested against.
 
 An episode whose simulation goes unstable (non-finite state, a MuJoCo
-instability warning or error) stops stepping: it is flagged in
+bad-qpos/qvel/qacc warning or error) stops stepping: it is flagged in
 ``RolloutResult.unstable`` and its remaining records repeat its last ones; the
 behaviours give it the worst fitness.
 """
@@ -34,7 +34,17 @@ from locustjump.controller import Controller
 
 #: What can be recorded per control step, and its per-step shape.
 RECORDABLE = ("qpos", "obs", "ctrl", "memory")
-_BADQACC = int(mujoco.mjtWarning.mjWARN_BADQACC)
+#: MuJoCo warnings that mean the simulation went unstable (it resets the data).
+_UNSTABLE = np.array(
+    [
+        int(w)
+        for w in (
+            mujoco.mjtWarning.mjWARN_BADQPOS,
+            mujoco.mjtWarning.mjWARN_BADQVEL,
+            mujoco.mjtWarning.mjWARN_BADQACC,
+        )
+    ]
+)
 
 
 @dataclass(frozen=True)
@@ -238,7 +248,7 @@ def _run_batch(batch: Batch, job: RolloutJob) -> RolloutResult:
         else:
             warn_ids = None
         done += n if alive is None else len(alive)
-        bad = (warn[:, _BADQACC, 1] > 0) | ~np.isfinite(qpos).all(axis=1)
+        bad = (warn[:, _UNSTABLE, 1] > 0).any(axis=1) | ~np.isfinite(qpos).all(axis=1)
         if warn_ids is not None:
             bad[warn_ids] = True
         newly = bad & ~unstable
@@ -307,7 +317,7 @@ def reference_rollout(job: RolloutJob) -> RolloutResult:
         memory = np.zeros((1, job.controller.memory_size))
         rec = _Recorder(job.record, 1, job.n_steps, m.nq, job.controller.memory_size)
 
-        def observe():
+        def observe(d: mujoco.MjData = d) -> np.ndarray:
             return sensors.paper_inputs(
                 d.qpos[None],
                 d.sensordata[None],
@@ -328,7 +338,7 @@ def reference_rollout(job: RolloutJob) -> RolloutResult:
                 unstable = True
             if (
                 unstable
-                or d.warning[_BADQACC].number > 0
+                or any(d.warning[w].number > 0 for w in _UNSTABLE)
                 or not np.isfinite(d.qpos).all()
             ):
                 unstable, steps = True, t + 1

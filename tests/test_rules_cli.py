@@ -1,0 +1,71 @@
+import mujoco
+import numpy as np
+import pytest
+
+from locustjump import cli
+from locustjump.io import TRAJECTORY_COLUMNS
+from locustjump.rules import run_rules
+
+
+def test_rule_based_jumps_at_least_three_times(params):
+    run = run_rules(steps=3000, model_params=params)
+    apexes = [round(j.apex_height, 3) for j in run.jumps]
+    print(f"rule-based: {len(run.jumps)} jumps, apex heights [m]: {apexes}")
+    assert len(run.jumps) >= 3
+    assert not run.unstable
+    assert all(j.rise > 0.1 * params.body_length for j in run.jumps)
+
+
+def test_rules_kick_only_after_change_time(params):
+    """Touch time < change time: legs stay at phi, the creature does not jump."""
+    run = run_rules(change_time=100.0, steps=600, model_params=params)
+    assert run.jumps == []
+    np.testing.assert_allclose(run.ctrl[-1], params.ready_angles())
+
+
+def test_cli_model_writes_loadable_mjcf(tmp_path, capsys):
+    out = tmp_path / "locust.xml"
+    assert cli.main(["model", "--scale", "2", "--out", str(out)]) == 0
+    m = mujoco.MjModel.from_xml_path(str(out))
+    assert m.nu == 4 and m.key("ready").id == 0
+    assert cli.main(["model", "--out", str(out)]) == 2  # exists: refused
+    assert "file exists" in capsys.readouterr().err
+
+
+def test_cli_rules_writes_csv_and_figure(tmp_path, capsys):
+    out = tmp_path / "rules"
+    assert cli.main(["rules", "--steps", "400", "--out", str(out)]) == 0
+    header = (out / "trajectory.csv").read_text().splitlines()[0]
+    assert header.split(",") == TRAJECTORY_COLUMNS
+    table = np.loadtxt(out / "trajectory.csv", delimiter=",", skiprows=1)
+    assert table.shape == (401, len(TRAJECTORY_COLUMNS))
+    assert (out / "trajectory.png").stat().st_size > 1000
+    assert "jumps in 400 steps" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize(
+    "argv, needle",
+    [
+        (["rules", "--steps", "0", "--out", "X"], "--steps must be > 0"),
+        (["rules", "--steps", "-5", "--out", "X"], "--steps must be > 0"),
+        (["rules", "--change-time", "-1", "--out", "X"], "--change-time"),
+        (["model", "--scale", "0", "--out", "X"], "--scale must be"),
+        (["model", "--scale", "-2", "--out", "X"], "--scale must be"),
+        (["rules", "--out", "X", "--bogus"], "unrecognized arguments: --bogus"),
+    ],
+)
+def test_cli_bad_input_one_line_exit_2(tmp_path, capsys, argv, needle):
+    argv = [str(tmp_path / a) if a == "X" else a for a in argv]
+    with pytest.raises(SystemExit) as e:
+        cli.main(argv)
+    assert e.value.code == 2
+    err = capsys.readouterr().err
+    assert needle in err and err.count("\n") == 1
+    assert list(tmp_path.iterdir()) == []  # nothing written
+
+
+def test_cli_refuses_non_empty_out_dir(tmp_path, capsys):
+    (tmp_path / "keep.txt").write_text("precious")
+    assert cli.main(["rules", "--steps", "10", "--out", str(tmp_path)]) == 2
+    assert "not empty" in capsys.readouterr().err
+    assert [p.name for p in tmp_path.iterdir()] == ["keep.txt"]
