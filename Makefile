@@ -16,6 +16,7 @@ $(VENV)/.installed: pyproject.toml | $(BIN)/python
 	touch $@
 
 demo: $(VENV)/.installed
+	$(BIN)/locustjump model --out demo/locust.xml --force
 	$(BIN)/locustjump rules --out demo/rules --force
 
 test: $(VENV)/.installed

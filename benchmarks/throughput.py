@@ -1,0 +1,85 @@
+"""Control steps per second of the rollout engine vs the physics alone.
+
+The engine runs a population of random 9-10-4 networks from the start state
+(sensors, batched network, actuation, recording, mujoco.batch stepping). The
+physics-only baseline replays the very same controls open-loop with
+``mujoco.rollout`` (same model, same substeps, same thread count), so the ratio
+is the price of closing the loop in Python. Medians of --repeats runs.
+
+    python benchmarks/throughput.py [--episodes 50] [--steps 300]
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import time
+
+import mujoco
+import numpy as np
+from mujoco import rollout as mj_rollout
+
+from locustjump import model as lm
+from locustjump.controller import MLP
+from locustjump.rollout import RolloutJob, StartStates, ThreadBackend
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--episodes", type=int, default=50)
+    ap.add_argument("--steps", type=int, default=300)
+    ap.add_argument("--repeats", type=int, default=5)
+    ap.add_argument("--threads", type=int, nargs="+", default=[1, 2])
+    args = ap.parse_args()
+
+    p = lm.LocustParams()
+    m = lm.load_model(p)
+    net = MLP()
+    genomes = net.random_genomes(np.random.default_rng(0), args.episodes, scale=2.0)
+    starts = StartStates.ready(m).take([0] * args.episodes)
+    job = RolloutJob(p, net, genomes, starts, args.steps, record=("qpos", "ctrl"))
+    n_ctrl = args.episodes * args.steps
+    print(
+        f"{args.episodes} episodes x {args.steps} control steps, "
+        f"{p.substeps} substeps of {p.timestep * 1e3:.3f} ms, mujoco "
+        f"{mujoco.__version__}; medians of {args.repeats}"
+    )
+
+    # open-loop controls: the engine's targets, held for each substep
+    ref = ThreadBackend(1).run(job)
+    controls = np.repeat(ref["ctrl"][:, 1:], p.substeps, axis=1)
+    d = mujoco.MjData(m)
+    mujoco.mj_resetDataKeyframe(m, d, 0)
+    spec = mujoco.mjtState.mjSTATE_FULLPHYSICS
+    state0 = np.empty(mujoco.mj_stateSize(m, spec))
+    mujoco.mj_getState(m, d, state0, spec)
+
+    rates = {}
+    for nthread in args.threads:
+        backend = ThreadBackend(nthread)
+        backend.run(job)  # warm-up: builds the batch
+        engine = []
+        for _ in range(args.repeats):
+            t0 = time.perf_counter()
+            backend.run(job)
+            engine.append(time.perf_counter() - t0)
+        datas = [mujoco.MjData(m) for _ in range(nthread)]
+        physics = []
+        with mj_rollout.Rollout(nthread=nthread) as r:
+            for _ in range(args.repeats):
+                t0 = time.perf_counter()
+                r.rollout(m, datas, state0, controls)
+                physics.append(time.perf_counter() - t0)
+        e, f = statistics.median(engine), statistics.median(physics)
+        rates[nthread] = n_ctrl / e
+        print(
+            f"threads={nthread}: engine {n_ctrl / e:9.0f} control steps/s, "
+            f"physics only {n_ctrl / f:9.0f} control steps/s, "
+            f"engine/physics rate {f / e:.3f}"
+        )
+    if 1 in rates and 2 in rates:
+        print(f"engine speed-up 2 threads vs 1: {rates[2] / rates[1]:.2f}x")
+
+
+if __name__ == "__main__":
+    main()
