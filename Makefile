@@ -16,6 +16,7 @@ $(VENV)/.installed: pyproject.toml | $(BIN)/python
 	touch $@
 
 demo: $(VENV)/.installed
+	mkdir -p demo
 	$(BIN)/locustjump model --out demo/locust.xml --force
 	$(BIN)/locustjump rules --out demo/rules --force
 
