@@ -19,6 +19,7 @@ behaviours give it the worst fitness.
 
 from __future__ import annotations
 
+import functools
 import os
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -222,13 +223,13 @@ def _run_batch(batch: Batch, job: RolloutJob) -> RolloutResult:
     ctl = job.controller
     memory = np.zeros((n, ctl.memory_size))
     rec = _Recorder(job.record, n, T, m.nq, ctl.memory_size)
-    obs = sensors.paper_inputs(
-        qpos,
-        sens,
+    observe = functools.partial(
+        sensors.paper_inputs,
         joint_adr=idx.qpos_joints,
         touch_adr=idx.touch,
         body_length=p.body_length,
     )
+    obs = observe(qpos, sens)
     rec.write(0, qpos, obs, ctrl, memory)
     unstable = np.zeros(n, bool)
     steps = np.full(n, T)
@@ -261,13 +262,7 @@ def _run_batch(batch: Batch, job: RolloutJob) -> RolloutResult:
             if alive.size == 0:
                 rec.fill_from(t + 1)
                 break
-        obs = sensors.paper_inputs(
-            qpos,
-            sens,
-            joint_adr=idx.qpos_joints,
-            touch_adr=idx.touch,
-            body_length=p.body_length,
-        )
+        obs = observe(qpos, sens)
         rec.write(t + 1, qpos, obs, ctrl, memory, frozen=unstable)
     return RolloutResult(rec.arrays, unstable, steps, done)
 
