@@ -20,14 +20,18 @@ def test_paper_inputs_at_start(params, mjmodel):
     d = mujoco.MjData(mjmodel)
     idx = lm.ModelIndex.of(mjmodel)
     mujoco.mj_resetDataKeyframe(mjmodel, d, idx.ready_key)
-    mujoco.mj_forward(mjmodel, d)
-    obs = sensors.paper_inputs(
-        d.qpos[None],
-        d.sensordata[None],
-        joint_adr=idx.qpos_joints,
-        touch_adr=idx.touch,
-        body_length=params.body_length,
-    )[0]
+
+    def observe() -> np.ndarray:
+        mujoco.mj_forward(mjmodel, d)
+        return sensors.paper_inputs(
+            d.qpos[None],
+            d.sensordata[None],
+            joint_adr=idx.qpos_joints,
+            touch_adr=idx.touch,
+            body_length=params.body_length,
+        )[0]
+
+    obs = observe()
     np.testing.assert_allclose(obs[:4], params.ready_angles(), atol=np.radians(3))
     assert ((obs[:4] > 0) & (obs[:4] < 2 * np.pi)).all()
     assert obs[4] == -1.0  # tarsi touch while standing
@@ -35,14 +39,7 @@ def test_paper_inputs_at_start(params, mjmodel):
     assert obs[8] > 0.99  # upright
     # lifted into the air: touch off
     d.qpos[2] += 1.0
-    mujoco.mj_forward(mjmodel, d)
-    obs = sensors.paper_inputs(
-        d.qpos[None],
-        d.sensordata[None],
-        joint_adr=idx.qpos_joints,
-        touch_adr=idx.touch,
-        body_length=params.body_length,
-    )[0]
+    obs = observe()
     assert obs[4] == 1.0
 
 
