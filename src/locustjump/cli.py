@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 from collections.abc import Sequence
+from pathlib import Path
 
 from locustjump import io
 from locustjump import model as lm
@@ -17,14 +18,14 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"locustjump: error: {message}\n")
 
 
-def _positive_int(name: str):
+def _int_at_least(name: str, lo: int):
     def parse(text: str) -> int:
         try:
             v = int(text)
         except ValueError:
             raise argparse.ArgumentTypeError(f"{name} must be an integer, got {text!r}")
-        if v <= 0:
-            raise argparse.ArgumentTypeError(f"{name} must be > 0, got {v}")
+        if v < lo:
+            raise argparse.ArgumentTypeError(f"{name} must be >= {lo}, got {v}")
         return v
 
     return parse
@@ -74,6 +75,88 @@ def cmd_rules(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_train(args: argparse.Namespace) -> int:
+    from locustjump import runs
+    from locustjump.rollout import ThreadBackend
+
+    if args.resume:
+        if args.config is not None:
+            raise io.UserError(
+                "--resume reads the run's own config.toml; drop --config"
+            )
+        path = Path(args.out) / runs.CONFIG
+        if not path.is_file():
+            raise io.UserError(f"--resume: {args.out} holds no run (no {runs.CONFIG})")
+        cfg = runs.load_config(path)
+        if cfg.behaviour != args.behaviour:
+            raise io.UserError(
+                f"--resume: {args.out} holds a {cfg.behaviour!r} run, "
+                f"not {args.behaviour!r}"
+            )
+        for key, have in (("seed", cfg.seed), ("population", cfg.rcga.population)):
+            if getattr(args, key) not in (None, have):
+                raise io.UserError(
+                    f"--{key} {getattr(args, key)} differs from the run's {key} "
+                    f"{have} ({path})"
+                )
+    else:
+        cfg = runs.TrainConfig(behaviour=args.behaviour)
+        if args.config is not None:
+            cfg = runs.load_config(args.config, behaviour=args.behaviour)
+            if cfg.behaviour != args.behaviour:
+                raise io.UserError(
+                    f"{args.config}: behaviour {cfg.behaviour!r} differs from the "
+                    f"command's {args.behaviour!r}"
+                )
+        if args.seed is not None:
+            cfg = cfg.replace(seed=args.seed)
+        if args.population is not None:
+            cfg = cfg.replace(rcga=cfg.rcga.replace(population=args.population))
+    if args.generations is not None:
+        cfg = cfg.replace(generations=args.generations)
+    res = runs.train(
+        cfg,
+        args.out,
+        resume=args.resume,
+        backend=ThreadBackend(args.threads),
+        progress=not args.quiet,
+    )
+    print(
+        f"{cfg.behaviour}: {res.generation} generations, best fitness "
+        f"{res.best.fitness:.6g} (generation {res.best.generation}); "
+        f"wrote {res.out}"
+    )
+    return 0
+
+
+def cmd_evaluate(args: argparse.Namespace) -> int:
+    import json
+
+    from locustjump import runs
+
+    ev = runs.evaluate_run(args.run)
+    if args.json:
+        print(json.dumps(ev.to_dict(), indent=2))
+    else:
+        status = "matches training" if ev.matches else "DIFFERS from training"
+        print(
+            f"{ev.behaviour}: fitness {ev.fitness:.10g} "
+            f"(recorded {ev.recorded_fitness:.10g}: {status})"
+        )
+        width = max(map(len, ev.metrics))
+        for k, v in ev.metrics.items():
+            text = f"{v:.4g}" if isinstance(v, float) else str(v)
+            print(f"  {k:<{width}}  {text}")
+        print("wrote " + ", ".join(str(f) for f in ev.files))
+    if not ev.matches:
+        print(
+            "locustjump: error: re-simulated fitness differs from the recorded one",
+            file=sys.stderr,
+        )
+        return 1
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     from locustjump import __version__
     from locustjump.rules import DEFAULT_CHANGE_TIME
@@ -108,13 +191,62 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument(
         "--steps",
-        type=_positive_int("--steps"),
+        type=_int_at_least("--steps", 1),
         default=3000,
         help="control steps of 1/120 s (default 3000)",
     )
     p.add_argument("--out", required=True, help="output directory")
     p.add_argument("--force", action="store_true", help="write into a non-empty --out")
     p.set_defaults(func=cmd_rules)
+
+    from locustjump.behaviours import BEHAVIOURS
+
+    p = sub.add_parser(
+        "train",
+        help="evolve a behaviour with the RCGA into a run directory",
+        description=(
+            "Evolve a behaviour. DIR receives config.toml, metrics.csv, best.npz, "
+            "checkpoint.npz (every generation) and fitness.png."
+        ),
+    )
+    p.add_argument("behaviour", choices=BEHAVIOURS)
+    p.add_argument(
+        "--population", type=_int_at_least("--population", 1), help="default 50"
+    )
+    p.add_argument(
+        "--generations", type=_int_at_least("--generations", 1), help="default 1000"
+    )
+    p.add_argument("--seed", type=_int_at_least("--seed", 0), help="default 0")
+    p.add_argument(
+        "--threads",
+        type=_int_at_least("--threads", 1),
+        help="simulation threads (default: all CPUs; the result does not depend on it)",
+    )
+    p.add_argument(
+        "--config",
+        metavar="FILE",
+        help="TOML file of settings (a run's config.toml is one); options override it",
+    )
+    p.add_argument("--out", required=True, metavar="DIR", help="run directory")
+    p.add_argument(
+        "--resume",
+        action="store_true",
+        help="continue the run in DIR (a larger --generations extends it)",
+    )
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(func=cmd_train)
+
+    p = sub.add_parser(
+        "evaluate",
+        help="re-simulate a run's best genome, print its metrics",
+        description=(
+            "Re-simulate the best genome of run DIR; print its fitness (checked "
+            "against the recorded one) and behaviour metrics; write DIR/eval/."
+        ),
+    )
+    p.add_argument("run", metavar="DIR")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=cmd_evaluate)
     return ap
 
 
@@ -125,6 +257,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     except (io.UserError, ValueError) as e:
         print(f"locustjump: error: {e}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:
+        print(
+            "locustjump: interrupted (a run continues with --resume)", file=sys.stderr
+        )
+        return 130
 
 
 if __name__ == "__main__":

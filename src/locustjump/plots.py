@@ -47,3 +47,27 @@ def trajectory_figure(
         ax.set_title(title)
     fig.savefig(path, dpi=120)
     plt.close(fig)
+
+
+def fitness_curves(path: Path, metrics: np.ndarray, *, title: str = "") -> None:
+    """Best and mean (+- std) fitness per generation from a metrics table."""
+    g = metrics["generation"]
+    fig, ax = plt.subplots(figsize=(6.4, 3.6), constrained_layout=True)
+    ax.fill_between(
+        g,
+        metrics["mean"] - metrics["std"],
+        metrics["mean"] + metrics["std"],
+        alpha=0.2,
+        lw=0,
+        label="mean +- std",
+    )
+    ax.plot(g, metrics["mean"], lw=1.0, label="mean")
+    ax.plot(g, metrics["best"], lw=1.6, label="best")
+    ax.set_xlabel("generation")
+    ax.set_ylabel("fitness")
+    ax.grid(alpha=0.3)
+    ax.legend(loc="lower right", fontsize=8)
+    if title:
+        ax.set_title(title)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
