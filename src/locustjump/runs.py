@@ -290,8 +290,9 @@ def read_metrics(path: Path) -> np.ndarray:
         raise UserError(f"{path}: not a readable metrics file ({e})") from None
 
 
-def _truncate_metrics(path: Path, generation: int) -> None:
-    """Keep the header and the rows of generations 1..``generation``."""
+def _truncate_metrics(path: Path, generation: int, last_row: str) -> None:
+    """Keep the header and the rows of generations 1..``generation``; the row of
+    ``generation`` itself is ``last_row`` (from the checkpoint) if missing."""
     lines = path.read_text().splitlines(keepends=True) if path.exists() else []
     header = ",".join(METRICS_COLUMNS) + "\n"
     keep = []
@@ -304,6 +305,13 @@ def _truncate_metrics(path: Path, generation: int) -> None:
             raise UserError(f"{path}: line {n} is malformed: {ln.strip()!r}") from None
         if g <= generation and ln.endswith("\n"):
             keep.append(ln)
+    if generation > 0 and len(keep) == generation - 1:
+        keep.append(last_row)
+    if len(keep) != generation:
+        raise UserError(
+            f"{path}: holds {len(keep)} rows for the {generation} generations of "
+            f"the checkpoint"
+        )
     _atomic_write_bytes(path, lambda f: f.write((header + "".join(keep)).encode()))
 
 
@@ -327,8 +335,9 @@ class _Run:
         self.hash = cfg.hash()
         self.ga = RCGA(self.num_params, cfg.rcga, np.random.default_rng(cfg.seed))
         self.best: BestGenome | None = None
+        self.metrics_row = ""  # of the checkpointed generation
 
-    def checkpoint(self) -> None:
+    def checkpoint(self, metrics_row: str) -> None:
         assert self.best is not None
         best = self.best
         state = self.ga.state()
@@ -342,6 +351,7 @@ class _Run:
                 best_genome=best.genome,
                 best_fitness=np.array(best.fitness),
                 best_generation=np.array(best.generation),
+                metrics_row=np.array(metrics_row),
                 **state,
             ),
         )
@@ -361,8 +371,10 @@ class _Run:
                 "population",
                 "fitness",
                 "rng_state",
+                "metrics_row",
             ),
         )
+        self.metrics_row = str(z["metrics_row"])
         if str(z["behaviour"]) != self.cfg.behaviour:
             raise UserError(
                 f"{path}: holds a {str(z['behaviour'])!r} run, not "
@@ -416,15 +428,18 @@ def train(
     out = Path(out)
     beh = get_behaviour(cfg.behaviour)
     if resume:
-        cfg = _check_resume(out, cfg)
+        extend = _check_resume(out, cfg)
+        run = _Run(out, cfg, beh)
+        if (out / CHECKPOINT).exists():
+            run.restore()  # checked before anything is written
+        if extend:
+            write_config(out / CONFIG, cfg)
     else:
         _check_new(out)
         out.mkdir(parents=True, exist_ok=True)
         write_config(out / CONFIG, cfg)
-    run = _Run(out, cfg, beh)
-    if resume and (out / CHECKPOINT).exists():
-        run.restore()
-    _truncate_metrics(out / METRICS, run.ga.generation)
+        run = _Run(out, cfg, beh)
+    _truncate_metrics(out / METRICS, run.ga.generation, run.metrics_row)
     return _loop(run, get_backend(backend), progress, stop_after)
 
 
@@ -439,7 +454,8 @@ def _check_new(out: Path) -> None:
         )
 
 
-def _check_resume(out: Path, cfg: TrainConfig) -> TrainConfig:
+def _check_resume(out: Path, cfg: TrainConfig) -> bool:
+    """Check that ``cfg`` continues the run in ``out``; True if it extends it."""
     if not (out / CONFIG).is_file():
         raise UserError(f"--resume: {out} holds no run (no {CONFIG})")
     stored = load_config(out / CONFIG)
@@ -456,9 +472,7 @@ def _check_resume(out: Path, cfg: TrainConfig) -> TrainConfig:
         raise UserError(
             f"--resume: the options differ from {out / CONFIG} in {', '.join(diff)}"
         )
-    if stored.generations != cfg.generations:
-        write_config(out / CONFIG, cfg)
-    return cfg
+    return stored.generations != cfg.generations
 
 
 def _loop(
@@ -486,7 +500,6 @@ def _loop(
                 x = ga.ask()
                 fit, res = beh.evaluate(x, p, backend=backend)
                 ga.tell(fit)
-                wall = time.perf_counter() - t0
                 g = ga.generation
                 i = int(np.argmax(fit))
                 if run.best is None or fit[i] > run.best.fitness:
@@ -495,13 +508,20 @@ def _loop(
                     )
                     run.best.save(run.out / BEST)
                 f = ga.fitness
-                rate = res.control_steps / wall
                 # floats as shortest round-trip text: the CSV holds exact values
                 row = [g, float(f[0]), float(f.mean()), float(f.std())]
-                row += [round(wall, 4), len(x), res.control_steps, round(rate, 1)]
-                metrics.write(",".join(map(str, row)) + "\n")
+                row += [len(x), res.control_steps]
+                # the checkpoint carries its own metrics row (a kill between the
+                # two writes loses nothing); wall time covers the whole
+                # generation but for this last small write
+                wall = time.perf_counter() - t0
+                rate = res.control_steps / wall
+                line = _metrics_line(row, wall, rate)
+                run.checkpoint(line)
+                wall = time.perf_counter() - t0
+                rate = res.control_steps / wall
+                metrics.write(_metrics_line(row, wall, rate))
                 metrics.flush()
-                run.checkpoint()
                 done += 1
                 bar.set_postfix(
                     best=f"{f[0]:.4g}",
@@ -516,6 +536,12 @@ def _loop(
             fitness_figure(run.out)
     assert run.best is not None
     return TrainResult(run.out, ga.generation, run.best, time.perf_counter() - t_start)
+
+
+def _metrics_line(row: list, wall: float, rate: float) -> str:
+    g, best, mean, std, evaluations, steps = row
+    cols = [g, best, mean, std, round(wall, 4), evaluations, steps, round(rate, 1)]
+    return ",".join(map(str, cols)) + "\n"
 
 
 def fitness_figure(out: Path) -> Path:

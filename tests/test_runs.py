@@ -1,0 +1,255 @@
+"""Run directories: files, bit-identical resume (also after a kill), evaluate,
+thread-count independence, and bad input."""
+
+import dataclasses
+import signal
+import subprocess
+import sys
+import time
+import zipfile
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from locustjump import runs
+from locustjump.behaviours import get_behaviour
+from locustjump.behaviours.kick import kick_fitness
+from locustjump.cli import main
+from locustjump.io import UserError
+from locustjump.rcga import RCGAParams
+from locustjump.rollout import ThreadBackend
+
+SMALL = runs.TrainConfig(generations=4, rcga=RCGAParams(population=6), seed=5)
+EXACT = ("generation", "best", "mean", "std", "evaluations", "control_steps")
+
+
+def assert_same_run(a: Path, b: Path) -> None:
+    """Same genomes, fitness, GA state and metrics, bit for bit (not wall time)."""
+    for name in (runs.CHECKPOINT, runs.BEST):
+        with np.load(a / name) as za, np.load(b / name) as zb:
+            assert za.files == zb.files
+            for k in set(za.files) - {"metrics_row"}:  # holds the wall time
+                np.testing.assert_array_equal(za[k], zb[k], err_msg=f"{name}:{k}")
+    ma, mb = runs.read_metrics(a / runs.METRICS), runs.read_metrics(b / runs.METRICS)
+    for k in EXACT:
+        np.testing.assert_array_equal(ma[k], mb[k])
+
+
+@pytest.fixture(scope="module")
+def full_run(tmp_path_factory) -> Path:
+    out = tmp_path_factory.mktemp("full") / "run"
+    runs.train(SMALL, out, progress=False, backend=ThreadBackend(2))
+    return out
+
+
+def test_run_directory_files(full_run):
+    for name in (runs.CONFIG, runs.METRICS, runs.CHECKPOINT, runs.BEST, "fitness.png"):
+        assert (full_run / name).is_file(), name
+    assert runs.load_config(full_run / runs.CONFIG) == SMALL
+    m = runs.read_metrics(full_run / runs.METRICS)
+    np.testing.assert_array_equal(m["generation"], [1, 2, 3, 4])
+    np.testing.assert_array_equal(m["evaluations"], [6, 4, 4, 4])  # elites kept
+    assert np.all(np.diff(m["best"]) >= 0)
+    best = runs.BestGenome.load(full_run / runs.BEST, 144)
+    assert best.fitness == m["best"][-1]
+    assert best.behaviour == "kick" and best.config_hash == SMALL.hash()
+    # no temporary files are left behind by the atomic writes
+    assert not list(full_run.glob(".*.tmp"))
+
+
+def test_resume_is_bit_identical(full_run, tmp_path):
+    out = tmp_path / "run"
+    r = runs.train(SMALL, out, progress=False, stop_after=2)
+    assert r.generation == 2
+    # as if killed between the checkpoint and the metrics row of generation 2
+    m = out / runs.METRICS
+    m.write_text("".join(m.read_text().splitlines(keepends=True)[:-1]))
+    runs.train(SMALL, out, progress=False, resume=True)
+    assert_same_run(full_run, out)
+
+
+def test_thread_count_does_not_change_the_result(full_run, tmp_path):
+    out = tmp_path / "run"
+    runs.train(SMALL, out, progress=False, backend=ThreadBackend(1))
+    assert_same_run(full_run, out)
+
+
+def test_resume_after_a_kill_is_bit_identical(tmp_path):
+    cfg = SMALL.replace(generations=40)
+    ref = tmp_path / "ref"
+    runs.train(cfg, ref, progress=False)
+    out = tmp_path / "killed"
+    cmd = [sys.executable, "-m", "locustjump.cli", "train", "kick", "--population",
+           "6", "--seed", "5", "--generations", "40", "--threads", "1", "--quiet",
+           "--out", str(out)]  # fmt: skip
+    proc = subprocess.Popen(cmd)
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline:
+        m = out / runs.METRICS
+        if m.exists() and len(m.read_text().splitlines()) > 6:
+            break
+        time.sleep(0.02)
+    proc.send_signal(signal.SIGKILL)
+    proc.wait()
+    done = len(runs.read_metrics(out / runs.METRICS))
+    assert 0 < done < 40, "the run should have been killed mid-way"
+    assert main(["train", "kick", "--resume", "--quiet", "--out", str(out)]) == 0
+    assert_same_run(ref, out)
+
+
+def test_resume_can_extend_a_finished_run(full_run, tmp_path):
+    out = tmp_path / "run"
+    runs.train(SMALL.replace(generations=2), out, progress=False)
+    runs.train(SMALL, out, progress=False, resume=True)
+    assert_same_run(full_run, out)
+    assert runs.load_config(out / runs.CONFIG).generations == 4
+
+
+def test_evaluate_reproduces_the_recorded_fitness(full_run, capsys):
+    assert main(["evaluate", str(full_run)]) == 0
+    text = capsys.readouterr().out
+    assert "matches training" in text and "apex_height_m" in text
+    assert (full_run / "eval" / "trajectory.csv").is_file()
+    assert (full_run / "eval" / "kick_vs_rules.png").is_file()
+    ev = runs.evaluate_run(full_run)
+    assert ev.matches and ev.metrics["fitness"] == ev.fitness
+    header = (full_run / "eval" / "trajectory.csv").read_text().splitlines()[0]
+    assert header.startswith("step,t,x,y,z,up_z,touch,hip_l,knee_l,hip_r,knee_r")
+
+
+def test_kick_fitness_is_the_rectangle():
+    q = np.zeros((1, 4, 7))
+    q[0, :, 0] = [0.0, 1.0, 2.0, 3.0]  # x
+    q[0, :, 2] = [0.5, 1.5, 1.0, 0.0]  # z: up 1, then up 0.5, then below start
+    assert kick_fitness(q)[0] == pytest.approx(max(1 * 1.0, 2 * 0.5, 3 * 0.0))
+    q[0, :, 0] *= -1  # backwards: nothing counts
+    assert kick_fitness(q)[0] == 0.0
+
+
+def test_kick_fitness_of_the_rule_based_kick_is_positive(params):
+    from locustjump.rules import RuleController
+
+    beh = get_behaviour("kick")
+    rc = RuleController.for_model(params)
+    from locustjump.rollout import rollout
+
+    res = rollout(rc, rc.params_for(0.125), beh.start_states(params), beh.n_steps)
+    assert kick_fitness(res["qpos"])[0] > 0.1
+
+
+# --- bad input -----------------------------------------------------------------
+
+
+def run_cli(args, capsys):
+    code = main(args)
+    err = capsys.readouterr().err.strip()
+    return code, err
+
+
+def test_new_run_refuses_a_used_directory(full_run, capsys):
+    before = (full_run / runs.METRICS).read_bytes()
+    code, err = run_cli(["train", "kick", "--out", str(full_run)], capsys)
+    assert code == 2 and "holds a run" in err and "--resume" in err
+    assert len(err.splitlines()) == 1
+    assert (full_run / runs.METRICS).read_bytes() == before
+
+
+def copy_run(src: Path, dst: Path) -> Path:
+    dst.mkdir()
+    for f in src.iterdir():
+        if f.is_file():
+            (dst / f.name).write_bytes(f.read_bytes())
+    return dst
+
+
+def test_truncated_checkpoint_is_named(full_run, tmp_path, capsys):
+    out = copy_run(full_run, tmp_path / "run")
+    data = (out / runs.CHECKPOINT).read_bytes()
+    (out / runs.CHECKPOINT).write_bytes(data[: len(data) // 2])
+    snapshot = {f.name: f.read_bytes() for f in out.iterdir() if f.is_file()}
+    code, err = run_cli(
+        ["train", "kick", "--resume", "--generations", "6", "--out", str(out)], capsys
+    )
+    assert code == 2 and runs.CHECKPOINT in err and len(err.splitlines()) == 1
+    # nothing overwritten, except config.toml (not rewritten either: same bytes)
+    assert {f.name: f.read_bytes() for f in out.iterdir() if f.is_file()} == snapshot
+
+
+def test_bad_genome_files_are_named(full_run, tmp_path, capsys):
+    out = copy_run(full_run, tmp_path / "run")
+    best = runs.BestGenome.load(out / runs.BEST)
+    dataclasses.replace(best, genome=best.genome[:-1]).save(out / runs.BEST)
+    code, err = run_cli(["evaluate", str(out)], capsys)
+    assert code == 2 and "143 genes" in err and "144" in err
+    (out / runs.BEST).write_bytes(b"not a zip file")
+    code, err = run_cli(["evaluate", str(out)], capsys)
+    assert code == 2 and runs.BEST in err
+    with zipfile.ZipFile(out / runs.BEST, "w") as z:  # an npz without our keys
+        z.writestr("x.npy", b"")
+    code, err = run_cli(["evaluate", str(out)], capsys)
+    assert code == 2 and runs.BEST in err
+
+
+@pytest.mark.parametrize(
+    "text, match",
+    [
+        ("seed = 1\nbogus = 2\n", "unknown key 'bogus'"),
+        ("[rcga]\npopulation = 'fifty'\n", "rcga.population must be int"),
+        ("[model]\nhip_pos = [1.0, 2.0]\n", "model.hip_pos"),
+        ("[rcga]\nelite = 60\n", "elite"),
+        ("seed = [\n", "not valid TOML"),
+        ('behaviour = "getup"\n', "behaviour"),
+    ],
+)
+def test_bad_config_is_named(tmp_path, capsys, text, match):
+    cfg = tmp_path / "my.toml"
+    cfg.write_text(text)
+    out = tmp_path / "run"
+    code, err = run_cli(
+        ["train", "kick", "--config", str(cfg), "--out", str(out)], capsys
+    )
+    assert code == 2 and match in err and str(cfg) in err, err
+    assert len(err.splitlines()) == 1
+    assert not out.exists()
+
+
+def test_config_file_sets_the_run(tmp_path):
+    cfg = tmp_path / "my.toml"
+    cfg.write_text('[rcga]\ncrossover = "sbx"\npopulation = 4\n')
+    out = tmp_path / "run"
+    assert main(["train", "kick", "--config", str(cfg), "--generations", "1",
+                 "--quiet", "--out", str(out)]) == 0  # fmt: skip
+    c = runs.load_config(out / runs.CONFIG)
+    assert c.rcga.crossover == "sbx" and c.rcga.population == 4 and c.generations == 1
+
+
+def test_resume_checks_what_the_directory_holds(full_run, tmp_path, capsys):
+    code, err = run_cli(["train", "kick", "--resume", "--out", str(tmp_path)], capsys)
+    assert code == 2 and "holds no run" in err
+    code, err = run_cli(
+        ["train", "kick", "--resume", "--seed", "9", "--out", str(full_run)], capsys
+    )
+    assert code == 2 and "--seed 9 differs" in err
+    # another behaviour's run: stored config says kick, the command says getup
+    other = copy_run(full_run, tmp_path / "other")
+    text = (other / runs.CONFIG).read_text().replace('"kick"', '"nope"')
+    (other / runs.CONFIG).write_text(text)
+    code, err = run_cli(["train", "kick", "--resume", "--out", str(other)], capsys)
+    assert code == 2 and "behaviour" in err and runs.CONFIG in err
+
+
+def test_checkpoint_of_another_configuration_is_refused(full_run, tmp_path):
+    out = copy_run(full_run, tmp_path / "run")
+    (out / runs.CONFIG).write_text(
+        (out / runs.CONFIG).read_text().replace("seed = 5", "seed = 6")
+    )
+    with pytest.raises(UserError, match="another configuration"):
+        runs.train(SMALL.replace(seed=6), out, progress=False, resume=True)
+
+
+def test_evaluate_of_a_directory_without_a_run(tmp_path, capsys):
+    code, err = run_cli(["evaluate", str(tmp_path)], capsys)
+    assert code == 2 and "holds no run" in err
+    code, err = run_cli(["evaluate", str(tmp_path / "missing")], capsys)
+    assert code == 2 and "no such directory" in err
