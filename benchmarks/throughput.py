@@ -13,15 +13,18 @@ from __future__ import annotations
 
 import argparse
 import statistics
+import sys
 import time
+from pathlib import Path
 
 import mujoco
 import numpy as np
-from mujoco import rollout as mj_rollout
 
-from locustjump import model as lm
-from locustjump.controller import MLP
-from locustjump.rollout import RolloutJob, StartStates, ThreadBackend
+sys.path.insert(0, str(Path(__file__).parent))
+from _physics import physics_only_seconds  # noqa: E402
+from locustjump import model as lm  # noqa: E402
+from locustjump.controller import MLP  # noqa: E402
+from locustjump.rollout import RolloutJob, StartStates, ThreadBackend  # noqa: E402
 
 
 def main() -> None:
@@ -45,14 +48,7 @@ def main() -> None:
         f"{mujoco.__version__}; medians of {args.repeats}"
     )
 
-    # open-loop controls: the engine's targets, held for each substep
     ref = ThreadBackend(1).run(job)
-    controls = np.repeat(ref["ctrl"][:, 1:], p.substeps, axis=1)
-    d = mujoco.MjData(m)
-    mujoco.mj_resetDataKeyframe(m, d, 0)
-    spec = mujoco.mjtState.mjSTATE_FULLPHYSICS
-    state0 = np.empty(mujoco.mj_stateSize(m, spec))
-    mujoco.mj_getState(m, d, state0, spec)
 
     rates = {}
     for nthread in args.threads:
@@ -63,14 +59,8 @@ def main() -> None:
             t0 = time.perf_counter()
             backend.run(job)
             engine.append(time.perf_counter() - t0)
-        datas = [mujoco.MjData(m) for _ in range(nthread)]
-        physics = []
-        with mj_rollout.Rollout(nthread=nthread) as r:
-            for _ in range(args.repeats):
-                t0 = time.perf_counter()
-                r.rollout(m, datas, state0, controls)
-                physics.append(time.perf_counter() - t0)
-        e, f = statistics.median(engine), statistics.median(physics)
+        f = physics_only_seconds(p, starts, ref["ctrl"], nthread, args.repeats)
+        e = statistics.median(engine)
         rates[nthread] = n_ctrl / e
         print(
             f"threads={nthread}: engine {n_ctrl / e:9.0f} control steps/s, "

@@ -3,6 +3,7 @@ import numpy as np
 import pytest
 
 from locustjump import cli
+from locustjump import model as lm
 from locustjump.io import TRAJECTORY_COLUMNS
 from locustjump.rules import run_rules
 
@@ -46,8 +47,8 @@ def test_cli_rules_writes_csv_and_figure(tmp_path, capsys):
 @pytest.mark.parametrize(
     "argv, needle",
     [
-        (["rules", "--steps", "0", "--out", "X"], "--steps must be > 0"),
-        (["rules", "--steps", "-5", "--out", "X"], "--steps must be > 0"),
+        (["rules", "--steps", "0", "--out", "X"], "--steps must be >= 1"),
+        (["rules", "--steps", "-5", "--out", "X"], "--steps must be >= 1"),
         (["rules", "--change-time", "-1", "--out", "X"], "--change-time"),
         (["model", "--scale", "0", "--out", "X"], "--scale must be"),
         (["model", "--scale", "-2", "--out", "X"], "--scale must be"),
@@ -69,3 +70,19 @@ def test_cli_refuses_non_empty_out_dir(tmp_path, capsys):
     assert cli.main(["rules", "--steps", "10", "--out", str(tmp_path)]) == 2
     assert "not empty" in capsys.readouterr().err
     assert [p.name for p in tmp_path.iterdir()] == ["keep.txt"]
+
+
+def test_find_jumps_splits_at_a_bounce(params):
+    from locustjump.analysis import find_jumps
+
+    stand = lm.standing_height(params)
+    t = np.linspace(0, 1, 201)
+    arc = 4 * t * (1 - t)  # one unit-high parabola
+    z = np.concatenate([stand + arc, stand + 0.3 + arc, [stand]])  # bounce at +0.3
+    q = np.zeros((z.size, 7))
+    q[:, 0] = np.arange(z.size) * 0.01
+    q[:, 2] = z
+    jumps = find_jumps(q, params)
+    assert len(jumps) == 2
+    assert jumps[0].apex_height == pytest.approx(stand + 1, abs=1e-3)
+    assert jumps[1].apex_height == pytest.approx(stand + 1.3, abs=1e-3)
