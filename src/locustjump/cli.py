@@ -7,6 +7,8 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
+import numpy as np
+
 from locustjump import io
 from locustjump import model as lm
 
@@ -26,6 +28,19 @@ def _int_at_least(name: str, lo: int):
             raise argparse.ArgumentTypeError(f"{name} must be an integer, got {text!r}")
         if v < lo:
             raise argparse.ArgumentTypeError(f"{name} must be >= {lo}, got {v}")
+        return v
+
+    return parse
+
+
+def _finite_float(name: str):
+    def parse(text: str) -> float:
+        try:
+            v = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{name} must be a number, got {text!r}")
+        if not np.isfinite(v):
+            raise argparse.ArgumentTypeError(f"{name} must be finite, got {text}")
         return v
 
     return parse
@@ -157,6 +172,42 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_sweep_getup(args: argparse.Namespace) -> int:
+    from locustjump import runs
+    from locustjump.behaviours.getup import sweep_angles, sweep_getup
+    from locustjump.plots import sweep_figure
+
+    angles = sweep_angles(args.step_deg, args.from_deg, args.to_deg)
+    cfg, _, best = runs.load_run(args.run)
+    if cfg.behaviour != "getup":
+        raise io.UserError(
+            f"{args.run}: holds a {cfg.behaviour!r} run; sweep-getup needs a getup run"
+        )
+    sw = sweep_getup(best.genome, cfg.model, angles)
+    out = Path(args.run) / "sweep"
+    out.mkdir(exist_ok=True)
+    table = np.column_stack(
+        [sw.roll_deg, sw.training, sw.success, sw.start_uz, sw.final_uz,
+         sw.time_to_get_up_s]
+    )  # fmt: skip
+    np.savetxt(
+        out / "sweep.csv",
+        table,
+        delimiter=",",
+        header="angle_deg,training,success,start_uz,final_uz,time_to_get_up_s",
+        comments="",
+        fmt=["%.6g", "%d", "%d", "%.6f", "%.6f", "%.6g"],
+    )
+    sweep_figure(out / "sweep.png", sw)
+    n_train = int(sw.training.sum())
+    print(
+        f"got up from {sw.got_up} of {sw.n_sweep} (the paper: 65 of 180); "
+        f"training states: {int(sw.success[sw.training].sum())} of {n_train}"
+    )
+    print(f"wrote {out / 'sweep.csv'} and {out / 'sweep.png'}")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     from locustjump import __version__
     from locustjump.rules import DEFAULT_CHANGE_TIME
@@ -247,6 +298,21 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("run", metavar="DIR")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_evaluate)
+
+    p = sub.add_parser(
+        "sweep-getup",
+        help="get-up generalisation test over start roll angles",
+        description=(
+            "Evaluate a getup run's best controller from start states rolled in "
+            "--step-deg steps between --from-deg and --to-deg (plus the 5 "
+            "training states); write DIR/sweep/sweep.csv and sweep.png."
+        ),
+    )
+    p.add_argument("run", metavar="DIR")
+    p.add_argument("--step-deg", type=_finite_float("--step-deg"), default=1.0)
+    p.add_argument("--from-deg", type=_finite_float("--from-deg"), default=90.0)
+    p.add_argument("--to-deg", type=_finite_float("--to-deg"), default=270.0)
+    p.set_defaults(func=cmd_sweep_getup)
     return ap
 
 

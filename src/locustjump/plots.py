@@ -71,3 +71,65 @@ def fitness_curves(path: Path, metrics: np.ndarray, *, title: str = "") -> None:
         ax.set_title(title)
     fig.savefig(path, dpi=120)
     plt.close(fig)
+
+
+def getup_figure(
+    path: Path, uz: np.ndarray, rolls: tuple[float, ...], success: float
+) -> None:
+    """U_z over time from each start state (the paper's Fig. 9)."""
+    from locustjump.model import CONTROL_DT
+
+    t = np.arange(uz.shape[1]) * CONTROL_DT
+    fig, ax = plt.subplots(figsize=(7, 3.6), constrained_layout=True)
+    for u, r in zip(uz, rolls, strict=True):
+        ax.plot(t, u, lw=1.3, label=f"rolled {r:g} deg")
+    ax.axhline(success, color="k", ls=":", lw=1, label=f"success (U_z >= {success})")
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel("U_z (body up-axis . world z)")
+    ax.set_ylim(-1.05, 1.05)
+    ax.grid(alpha=0.3)
+    ax.legend(loc="lower right", fontsize=8)
+    ax.set_title("Getting up from the five start states")
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def joint_angles_figure(path: Path, angles: np.ndarray, target: np.ndarray) -> None:
+    """The four hind joint angles over time and their ready angles phi (Fig. 10)."""
+    from locustjump.model import CONTROL_DT
+    from locustjump.names import ACTUATED_JOINTS
+
+    t = np.arange(angles.shape[0]) * CONTROL_DT
+    fig, ax = plt.subplots(figsize=(7, 3.6), constrained_layout=True)
+    for i, name in enumerate(ACTUATED_JOINTS):
+        (line,) = ax.plot(t, np.degrees(angles[:, i]), lw=1.3, label=name)
+        ax.axhline(np.degrees(target[i]), color=line.get_color(), ls="--", lw=0.8)
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel("joint angle [deg] (dashed: phi)")
+    ax.grid(alpha=0.3)
+    ax.legend(loc="center right", fontsize=8)
+    ax.set_title("Returning the legs to the ready posture")
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def sweep_figure(path: Path, sweep, *, title: str = "") -> None:
+    """Polar plot of get-up success over the start roll angle."""
+    fig = plt.figure(figsize=(5.2, 5.2), constrained_layout=True)
+    ax = fig.add_subplot(projection="polar")
+    ax.set_theta_zero_location("N")  # 0 deg = upright, at the top
+    ax.set_theta_direction(-1)
+    theta = np.radians(sweep.roll_deg)
+    r = np.where(sweep.training, 1.15, 1.0)
+    ok = sweep.success
+    ax.scatter(theta[ok], r[ok], s=14, color="tab:green", label="got up")
+    ax.scatter(theta[~ok], r[~ok], s=14, color="tab:red", label="did not")
+    tr = sweep.training
+    ax.scatter(theta[tr], r[tr], s=60, facecolors="none", edgecolors="k",
+               label="training states")  # fmt: skip
+    ax.set_rticks([])
+    ax.set_ylim(0, 1.3)
+    ax.legend(loc="lower center", bbox_to_anchor=(0.5, -0.02), fontsize=8, ncol=3)
+    ax.set_title(title or f"Got up from {sweep.got_up} of {sweep.n_sweep}")
+    fig.savefig(path, dpi=120)
+    plt.close(fig)

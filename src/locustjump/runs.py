@@ -622,7 +622,13 @@ def evaluate_run(
     metrics = beh.metrics(res, p, best.genome)
     ev = out / "eval"
     ev.mkdir(exist_ok=True)
-    files = [ev / "trajectory.csv"]
-    io.write_trajectory_csv(files[0], res["qpos"][0], res["obs"][0], res["ctrl"][0])
+    labels = beh.state_labels()
+    files = []
+    for e, label in enumerate(labels):
+        name = "trajectory.csv" if len(labels) == 1 else f"trajectory_{label}.csv"
+        files.append(ev / name)
+        io.write_trajectory_csv(
+            files[-1], res["qpos"][e], res["obs"][e], res["ctrl"][e]
+        )
     files += beh.write_figures(res, p, ev)
     return Evaluation(cfg.behaviour, fitness, best.fitness, metrics, files)

@@ -7,9 +7,11 @@ names the command line accepts.
 from __future__ import annotations
 
 from locustjump.behaviours.base import Behaviour
+from locustjump.behaviours.getup import GetUp
 from locustjump.behaviours.kick import Kick
+from locustjump.behaviours.return_legs import ReturnLegs
 
-_REGISTRY: dict[str, type[Behaviour]] = {Kick.name: Kick}
+_REGISTRY: dict[str, type[Behaviour]] = {b.name: b for b in (Kick, GetUp, ReturnLegs)}
 BEHAVIOURS: tuple[str, ...] = tuple(_REGISTRY)
 
 
@@ -23,4 +25,4 @@ def get_behaviour(name: str) -> Behaviour:
         ) from None
 
 
-__all__ = ["BEHAVIOURS", "Behaviour", "Kick", "get_behaviour"]
+__all__ = ["BEHAVIOURS", "Behaviour", "GetUp", "Kick", "ReturnLegs", "get_behaviour"]

@@ -5,11 +5,49 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any, ClassVar
 
+import mujoco
 import numpy as np
 
 from locustjump import model as lm
 from locustjump.controller import MLP, Controller
 from locustjump.rollout import Backend, RolloutResult, StartStates, rollout
+
+
+def settle(
+    p: lm.LocustParams,
+    *,
+    roll_deg: float = 0.0,
+    angles: np.ndarray | None = None,
+    seconds: float = 3.0,
+) -> StartStates:
+    """A start state settled on the ground before t = 0 (deterministic).
+
+    The Fig. 4 posture (keyframe ``ready``) is rolled by ``roll_deg`` about the
+    body's x-axis, its hind joints and servo targets set to ``angles`` (4,
+    radians; default phi), lifted until its bounding spheres clear the floor,
+    and simulated for ``seconds`` with the servos holding their targets. The
+    body is then moved back over the origin (heading and height kept).
+    """
+    m = lm.load_model(p)
+    idx = lm.ModelIndex.of(m)
+    d = mujoco.MjData(m)
+    mujoco.mj_resetDataKeyframe(m, d, m.key(lm.READY_KEY).id)
+    if angles is not None:
+        d.qpos[idx.qpos_joints] = angles
+        d.ctrl[:] = angles
+    q_roll = np.empty(4)
+    mujoco.mju_axisAngle2Quat(q_roll, np.array([1.0, 0.0, 0.0]), np.radians(roll_deg))
+    q = np.empty(4)
+    mujoco.mju_mulQuat(q, d.qpos[3:7].copy(), q_roll)  # rotation in the body frame
+    d.qpos[3:7] = q
+    mujoco.mj_forward(m, d)
+    creature = m.geom_bodyid != 0
+    low = (d.geom_xpos[creature, 2] - m.geom_rbound[creature]).min()
+    d.qpos[2] += 1e-3 * p.scale - low
+    mujoco.mj_forward(m, d)
+    mujoco.mj_step(m, d, nstep=round(seconds / m.opt.timestep))
+    d.qpos[:2] = 0.0
+    return StartStates(d.qpos[None].copy(), d.qvel[None].copy(), d.ctrl[None].copy())
 
 
 class Behaviour:
@@ -43,6 +81,10 @@ class Behaviour:
     ) -> dict[str, Any]:
         """Behaviour metrics of one controller's episodes (JSON-serialisable)."""
         raise NotImplementedError
+
+    def state_labels(self) -> list[str]:
+        """A file-name-safe label per start state."""
+        return ["start"]
 
     def write_figures(
         self, res: RolloutResult, p: lm.LocustParams, out: Path

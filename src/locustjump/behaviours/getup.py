@@ -1,0 +1,168 @@
+"""Behaviour Simple 2: getting up after overturning (paper §3.2, Fig. 8–9).
+
+* start: the Fig. 4 posture rolled about the body x-axis by 90, 135, 180, 225
+  and 270 deg (one side -> upside down -> the other side) and settled on the
+  ground for 3 s (:func:`~locustjump.behaviours.base.settle`). On our creature
+  the round body cannot rest on its side: every roll in [90, 270] deg settles
+  on its back, tilted towards the side it started on (``docs/behaviours.md``);
+* episode: 1000 control steps from each of the 5 states (one engine call);
+* fitness (our reading of Eq. 2, SPEC): the mean over states and steps of
+  U_z(t), the world z of the body's up-axis (input I9): 1 upright, -1 on its
+  back. Success from a state: U_z >= 0.9 at the end of the episode.
+"""
+
+from __future__ import annotations
+
+import functools
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from locustjump import model as lm
+from locustjump.behaviours.base import Behaviour, settle
+from locustjump.model import CONTROL_DT
+from locustjump.rollout import Backend, RolloutResult, StartStates, rollout
+
+TRAIN_ROLLS: tuple[float, ...] = (90.0, 135.0, 180.0, 225.0, 270.0)  # (deg)
+SUCCESS_UZ = 0.9
+SETTLE_SECONDS = 3.0  # rocking on the back dies out by then (docs/behaviours.md)
+
+
+@functools.lru_cache(maxsize=16)
+def rolled_starts(p: lm.LocustParams, rolls: tuple[float, ...]) -> StartStates:
+    """Settled start states for roll angles ``rolls`` (degrees), in order."""
+    for r in rolls:
+        if not 0.0 <= r < 360.0:
+            raise ValueError(f"roll angle must be in [0, 360) degrees, got {r:g}")
+    return StartStates.concat(
+        [settle(p, roll_deg=r, seconds=SETTLE_SECONDS) for r in rolls]
+    )
+
+
+def up_z(res: RolloutResult) -> np.ndarray:
+    """(n, T + 1) U_z of every episode."""
+    return res["obs"][:, :, 8]
+
+
+def getup_summary(uz: np.ndarray) -> dict[str, np.ndarray]:
+    """Per episode: final U_z, success, time to get up (s; NaN if never)."""
+    final = uz[:, -1]
+    success = final >= SUCCESS_UZ
+    reached = uz >= SUCCESS_UZ
+    first = np.where(reached.any(axis=1), reached.argmax(axis=1), -1)
+    t_up = np.where(first >= 0, first * CONTROL_DT, np.nan)
+    return {"final_uz": final, "success": success, "time_to_get_up_s": t_up}
+
+
+class GetUp(Behaviour):
+    name = "getup"
+    n_steps = 1000
+    record = ("obs",)
+    worst_fitness = -1.0
+    rolls = TRAIN_ROLLS
+
+    def start_states(self, p: lm.LocustParams) -> StartStates:
+        return rolled_starts(p, self.rolls)
+
+    def episode_fitness(self, res: RolloutResult, p: lm.LocustParams) -> np.ndarray:
+        return up_z(res)[:, 1:].mean(axis=1)
+
+    def state_labels(self) -> list[str]:
+        return [f"roll{r:03.0f}" for r in self.rolls]
+
+    def metrics(
+        self, res: RolloutResult, p: lm.LocustParams, genome: np.ndarray
+    ) -> dict[str, Any]:
+        s = getup_summary(up_z(res))
+        return {
+            "fitness": float(self.fitness(res, p)[0]),
+            "got_up_from": f"{int(s['success'].sum())} of {len(self.rolls)}",
+            "roll_deg": list(self.rolls),
+            "start_uz": [round(float(u), 4) for u in up_z(res)[:, 0]],
+            "final_uz": [round(float(u), 4) for u in s["final_uz"]],
+            "success": [bool(b) for b in s["success"]],
+            "time_to_get_up_s": [
+                None if np.isnan(t) else round(float(t), 4)
+                for t in s["time_to_get_up_s"]
+            ],
+            "unstable": int(res.unstable.sum()),
+        }
+
+    def write_figures(
+        self, res: RolloutResult, p: lm.LocustParams, out: Path
+    ) -> list[Path]:
+        """``getup.png``: the paper's Fig. 9, U_z over time from each state."""
+        from locustjump.plots import getup_figure
+
+        path = out / "getup.png"
+        getup_figure(path, up_z(res), self.rolls, SUCCESS_UZ)
+        return [path]
+
+
+def sweep_angles(
+    step_deg: float = 1.0, from_deg: float = 90.0, to_deg: float = 270.0
+) -> np.ndarray:
+    """The generalisation test's roll angles: the centres of ``step_deg`` bins
+    from ``from_deg`` to ``to_deg`` (1 deg: 90.5, 91.5, ..., 269.5, i.e. 180
+    states from one side to the other, none equal to a training state)."""
+    if not step_deg > 0:
+        raise ValueError(f"--step-deg must be > 0, got {step_deg:g}")
+    for name, a in (("--from-deg", from_deg), ("--to-deg", to_deg)):
+        if not 0.0 <= a <= 360.0:
+            raise ValueError(f"{name} must be in [0, 360] degrees, got {a:g}")
+    if not from_deg < to_deg:
+        raise ValueError(f"--from-deg {from_deg:g} must be below --to-deg {to_deg:g}")
+    n = int(np.floor((to_deg - from_deg) / step_deg + 1e-9))
+    if n < 1:
+        raise ValueError(f"--step-deg {step_deg:g} leaves no angle in the range")
+    return from_deg + step_deg * (np.arange(n) + 0.5)
+
+
+@dataclass(frozen=True)
+class Sweep:
+    """Outcome of the get-up generalisation test, one entry per start state."""
+
+    roll_deg: np.ndarray
+    training: np.ndarray  # bool: one of the five training states
+    start_uz: np.ndarray
+    final_uz: np.ndarray
+    success: np.ndarray
+    time_to_get_up_s: np.ndarray
+
+    @property
+    def got_up(self) -> int:
+        """States of the sweep proper (not the training ones) got up from."""
+        return int(self.success[~self.training].sum())
+
+    @property
+    def n_sweep(self) -> int:
+        return int((~self.training).sum())
+
+
+def sweep_getup(
+    genome: np.ndarray,
+    p: lm.LocustParams,
+    angles: np.ndarray,
+    *,
+    backend: Backend | None = None,
+) -> Sweep:
+    """Evaluate one get-up controller from ``angles`` plus the training states."""
+    rolls = tuple(float(a) for a in angles) + TRAIN_ROLLS
+    res = rollout(
+        GetUp().controller,
+        genome[None],
+        rolled_starts(p, rolls),
+        GetUp.n_steps,
+        model_params=p,
+        record=("obs",),
+        backend=backend,
+    )
+    uz = np.where(res.unstable[:, None], -1.0, up_z(res))
+    s = getup_summary(uz)
+    training = np.arange(len(rolls)) >= len(angles)
+    return Sweep(
+        np.array(rolls), training, uz[:, 0], s["final_uz"], s["success"],
+        s["time_to_get_up_s"],
+    )  # fmt: skip
