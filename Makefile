@@ -19,6 +19,10 @@ demo: $(VENV)/.installed
 	mkdir -p demo
 	$(BIN)/locustjump model --out demo/locust.xml --force
 	$(BIN)/locustjump rules --out demo/rules --force
+	# a second `make demo` resumes (a finished run: nothing to do) instead of clobbering
+	$(BIN)/locustjump train kick --population 50 --generations 30 --out demo/kick \
+		$$(test -f demo/kick/config.toml && echo --resume)
+	$(BIN)/locustjump evaluate demo/kick
 
 test: $(VENV)/.installed
 	$(BIN)/ruff check src tests benchmarks scripts
@@ -26,6 +30,7 @@ test: $(VENV)/.installed
 
 bench: $(VENV)/.installed
 	$(BIN)/python benchmarks/throughput.py
+	$(BIN)/python benchmarks/generation.py --behaviour kick
 
 clean:
 	rm -rf $(VENV) demo

@@ -13,6 +13,16 @@ import numpy as np  # noqa: E402
 from locustjump.analysis import Jump  # noqa: E402
 
 
+def _finish(fig, ax, path: Path, title: str, *, legend: str) -> None:
+    """Grid, legend, title; save as PNG and close."""
+    ax.grid(alpha=0.3)
+    ax.legend(loc=legend, fontsize=8)
+    if title:
+        ax.set_title(title)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
 def trajectory_figure(
     path: Path,
     curves: list[tuple[str, np.ndarray, list[Jump]]],
@@ -41,12 +51,7 @@ def trajectory_figure(
     ax.set_xlabel("distance x [m]")
     ax.set_ylabel("height z [m]")
     ax.set_ylim(bottom=0)
-    ax.grid(alpha=0.3)
-    ax.legend(loc="upper right", fontsize=8)
-    if title:
-        ax.set_title(title)
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    _finish(fig, ax, path, title, legend="upper right")
 
 
 def fitness_curves(path: Path, metrics: np.ndarray, *, title: str = "") -> None:
@@ -65,12 +70,7 @@ def fitness_curves(path: Path, metrics: np.ndarray, *, title: str = "") -> None:
     ax.plot(g, metrics["best"], lw=1.6, label="best")
     ax.set_xlabel("generation")
     ax.set_ylabel("fitness")
-    ax.grid(alpha=0.3)
-    ax.legend(loc="lower right", fontsize=8)
-    if title:
-        ax.set_title(title)
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    _finish(fig, ax, path, title, legend="lower right")
 
 
 def getup_figure(
@@ -87,11 +87,9 @@ def getup_figure(
     ax.set_xlabel("time [s]")
     ax.set_ylabel("U_z (body up-axis . world z)")
     ax.set_ylim(-1.05, 1.05)
-    ax.grid(alpha=0.3)
-    ax.legend(loc="lower right", fontsize=8)
-    ax.set_title("Getting up from the five start states")
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    _finish(
+        fig, ax, path, "Getting up from the five start states", legend="lower right"
+    )
 
 
 def joint_angles_figure(path: Path, angles: np.ndarray, target: np.ndarray) -> None:
@@ -106,11 +104,9 @@ def joint_angles_figure(path: Path, angles: np.ndarray, target: np.ndarray) -> N
         ax.axhline(np.degrees(target[i]), color=line.get_color(), ls="--", lw=0.8)
     ax.set_xlabel("time [s]")
     ax.set_ylabel("joint angle [deg] (dashed: phi)")
-    ax.grid(alpha=0.3)
-    ax.legend(loc="center right", fontsize=8)
-    ax.set_title("Returning the legs to the ready posture")
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    _finish(
+        fig, ax, path, "Returning the legs to the ready posture", legend="center right"
+    )
 
 
 def sweep_figure(path: Path, sweep, *, title: str = "") -> None:

@@ -68,6 +68,7 @@ class Kick(Behaviour):
         z0, x0 = qpos[0, 2], qpos[0, 0]
         apex = int(np.argmax(qpos[:, 2]))
         t_off, speed, angle = takeoff(qpos, obs[:, 4] < 0, apex)
+        jumps = find_jumps(qpos, p)
         rules = run_rules(steps=2 * self.n_steps, model_params=p)
         first = rules.jumps[0] if rules.jumps else None
         out: dict[str, Any] = {
@@ -79,9 +80,14 @@ class Kick(Behaviour):
             "takeoff_step": t_off,
             "takeoff_speed_m_s": speed,
             "takeoff_angle_deg": angle,
-            "jumps": len(find_jumps(qpos, p)),
+            "jumps": len(jumps),
+            "first_jump_apex_height_m": jumps[0].apex_height if jumps else None,
             "unstable": bool(res.unstable[0]),
         }
+        # the rule-based jumping's own fitness over the same 300 steps
+        out["rules_fitness"] = float(
+            kick_fitness(rules.qpos[None, : self.n_steps + 1])[0]
+        )
         if first is not None:  # same start state, so the same z0
             rise = first.apex_height - z0
             out["rules_first_apex_height_m"] = first.apex_height
