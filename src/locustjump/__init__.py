@@ -5,8 +5,10 @@ Behavior on the Artificial Creature under Virtual Physical Environment*, with
 MuJoCo and a real-coded genetic algorithm.
 """
 
+from locustjump.behaviours import BEHAVIOURS, Behaviour, get_behaviour
 from locustjump.controller import MLP, Controller
 from locustjump.model import CONTROL_DT, LocustParams, load_model, to_mjcf
+from locustjump.rcga import RCGA, RCGAParams
 from locustjump.rollout import (
     RolloutJob,
     RolloutResult,
@@ -16,22 +18,32 @@ from locustjump.rollout import (
     rollout,
 )
 from locustjump.rules import RuleController, run_rules
+from locustjump.runs import TrainConfig, evaluate_run, load_run, train
 
 __version__ = "0.1.0"
 
 __all__ = [
+    "BEHAVIOURS",
     "CONTROL_DT",
     "MLP",
+    "RCGA",
+    "Behaviour",
     "Controller",
     "LocustParams",
+    "RCGAParams",
     "RolloutJob",
     "RolloutResult",
     "RuleController",
     "StartStates",
     "ThreadBackend",
+    "TrainConfig",
+    "evaluate_run",
+    "get_behaviour",
     "load_model",
+    "load_run",
     "reference_rollout",
     "rollout",
     "run_rules",
     "to_mjcf",
+    "train",
 ]

@@ -10,6 +10,7 @@
 
 from __future__ import annotations
 
+import functools
 import math
 from pathlib import Path
 from typing import Any
@@ -21,6 +22,12 @@ from locustjump.analysis import find_jumps
 from locustjump.behaviours.base import Behaviour
 from locustjump.model import CONTROL_DT
 from locustjump.rollout import RolloutResult, StartStates
+
+
+@functools.lru_cache(maxsize=8)
+def ready_start(p: lm.LocustParams) -> StartStates:
+    """The settled Fig. 4 start state (keyframe ``ready``)."""
+    return StartStates.ready(lm.load_model(p))
 
 
 def kick_fitness(qpos: np.ndarray) -> np.ndarray:
@@ -52,7 +59,7 @@ class Kick(Behaviour):
     worst_fitness = 0.0
 
     def start_states(self, p: lm.LocustParams) -> StartStates:
-        return StartStates.ready(lm.load_model(p))
+        return ready_start(p)
 
     def episode_fitness(self, res: RolloutResult, p: lm.LocustParams) -> np.ndarray:
         return kick_fitness(res["qpos"])
