@@ -4,6 +4,7 @@ import numpy as np
 from locustjump import model as lm
 from locustjump import sensors
 from locustjump.controller import MLP
+from locustjump.rollout import observer
 
 
 def test_up_axis_is_third_row_of_rotation(rng):
@@ -21,15 +22,11 @@ def test_paper_inputs_at_start(params, mjmodel):
     idx = lm.ModelIndex.of(mjmodel)
     mujoco.mj_resetDataKeyframe(mjmodel, d, idx.ready_key)
 
+    observe_batch = observer(idx, params)
+
     def observe() -> np.ndarray:
         mujoco.mj_forward(mjmodel, d)
-        return sensors.paper_inputs(
-            d.qpos[None],
-            d.sensordata[None],
-            joint_adr=idx.qpos_joints,
-            touch_adr=idx.touch,
-            body_length=params.body_length,
-        )[0]
+        return observe_batch(d.qpos[None], d.sensordata[None])[0]
 
     obs = observe()
     np.testing.assert_allclose(obs[:4], params.ready_angles(), atol=np.radians(3))

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import functools
 import os
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Protocol
 
@@ -206,6 +206,19 @@ class ThreadBackend:
         return _run_batch(self._batch(job.model_params, job.n_episodes), job)
 
 
+def observer(
+    idx: lm.ModelIndex, p: lm.LocustParams
+) -> Callable[[np.ndarray, np.ndarray], np.ndarray]:
+    """``observe(qpos (n, nq), sensordata (n, nsensor)) -> (n, 9)`` paper inputs
+    of a model with addresses ``idx``."""
+    return functools.partial(
+        sensors.paper_inputs,
+        joint_adr=idx.qpos_joints,
+        touch_adr=idx.touch,
+        body_length=p.body_length,
+    )
+
+
 def _run_batch(batch: Batch, job: RolloutJob) -> RolloutResult:
     m = batch.model
     p = job.model_params
@@ -223,12 +236,7 @@ def _run_batch(batch: Batch, job: RolloutJob) -> RolloutResult:
     ctl = job.controller
     memory = np.zeros((n, ctl.memory_size))
     rec = _Recorder(job.record, n, T, m.nq, ctl.memory_size)
-    observe = functools.partial(
-        sensors.paper_inputs,
-        joint_adr=idx.qpos_joints,
-        touch_adr=idx.touch,
-        body_length=p.body_length,
-    )
+    observe = observer(idx, p)
     obs = observe(qpos, sens)
     rec.write(0, qpos, obs, ctrl, memory)
     unstable = np.zeros(n, bool)
@@ -299,6 +307,7 @@ def reference_rollout(job: RolloutJob) -> RolloutResult:
     m = lm.load_model(job.model_params)
     p = job.model_params
     idx = lm.ModelIndex.of(m)
+    observe_batch = observer(idx, p)
     parts = []
     for e in range(job.n_episodes):
         d = mujoco.MjData(m)
@@ -313,13 +322,7 @@ def reference_rollout(job: RolloutJob) -> RolloutResult:
         rec = _Recorder(job.record, 1, job.n_steps, m.nq, job.controller.memory_size)
 
         def observe(d: mujoco.MjData = d) -> np.ndarray:
-            return sensors.paper_inputs(
-                d.qpos[None],
-                d.sensordata[None],
-                joint_adr=idx.qpos_joints,
-                touch_adr=idx.touch,
-                body_length=p.body_length,
-            )
+            return observe_batch(d.qpos[None], d.sensordata[None])
 
         obs = observe()
         rec.write(0, d.qpos[None], obs, d.ctrl[None], memory)
