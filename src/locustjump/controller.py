@@ -7,18 +7,22 @@ result:
 * ``params``: (n, num_params) float64, one row per episode (the genome);
 * ``memory``: (n, memory_size) float64, one row per episode, for controllers
   that remember (the rule-based touch timer, the composed switcher);
-* ``act(params, memory, obs, targets, step) -> (deltas, memory)``: ``obs`` the
-  (n, 9) paper inputs, ``targets`` the (n, 4) current servo targets (radians);
-  deltas (n, 4) are the target changes in radians for this control step.
+* ``prepare(params) -> prepared``: once per rollout, whatever ``act`` wants
+  of the genomes (for an MLP: its weight matrices, unpacked once rather than
+  every control step);
+* ``act(prepared, memory, obs, targets, step) -> (deltas, memory)``: ``obs``
+  the (n, 9) paper inputs, ``targets`` the (n, 4) current servo targets
+  (radians); deltas (n, 4) are the target changes in radians for this control
+  step.
 
 Every controller here satisfies the :class:`Controller` protocol; the rollout
-engine (:mod:`locustjump.rollout`) only ever calls these three members.
+engine (:mod:`locustjump.rollout`) only ever calls these four members.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Literal, Protocol, runtime_checkable
+from typing import Any, Literal, NamedTuple, Protocol, runtime_checkable
 
 import numpy as np
 
@@ -35,14 +39,26 @@ class Controller(Protocol):
     @property
     def memory_size(self) -> int: ...
 
+    def prepare(self, params: np.ndarray) -> Any: ...
+
     def act(
         self,
-        params: np.ndarray,
+        prepared: Any,
         memory: np.ndarray,
         obs: np.ndarray,
         targets: np.ndarray,
         step: int,
     ) -> tuple[np.ndarray, np.ndarray]: ...
+
+
+class MLPWeights(NamedTuple):
+    """One network per row: ``w1 (n, h, i)``, ``b1 (n, h)``, ``w2 (n, o, h)``,
+    ``b2 (n, o)``."""
+
+    w1: np.ndarray
+    b1: np.ndarray
+    w2: np.ndarray
+    b2: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -78,9 +94,7 @@ class MLP:
     def memory_size(self) -> int:
         return 0
 
-    def unflatten(
-        self, params: np.ndarray
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    def unflatten(self, params: np.ndarray) -> MLPWeights:
         """Views ``W1 (n, h, i), b1 (n, h), W2 (n, o, h), b2 (n, o)`` of (n, P)."""
         params = np.asarray(params, dtype=np.float64)
         if params.ndim != 2 or params.shape[1] != self.num_params:
@@ -91,33 +105,47 @@ class MLP:
         a = h * i
         b = a + h
         c = b + o * h
-        return (
+        return MLPWeights(
             params[:, :a].reshape(n, h, i),
             params[:, a:b],
             params[:, b:c].reshape(n, o, h),
             params[:, c:],
         )
 
+    def prepare(self, params: np.ndarray) -> MLPWeights:
+        """The weights of (n, P) genomes, unpacked once for a rollout."""
+        return MLPWeights(*(np.ascontiguousarray(a) for a in self.unflatten(params)))
+
     def forward(self, params: np.ndarray, obs: np.ndarray) -> np.ndarray:
         """Outputs (n, n_out) for inputs (n, n_in), one network per row."""
-        w1, b1, w2, b2 = self.unflatten(params)
-        hidden = np.tanh(np.matmul(w1, obs[:, :, None])[:, :, 0] + b1)
-        out = np.matmul(w2, hidden[:, :, None])[:, :, 0] + b2
+        return self.apply(self.prepare(params), obs)
+
+    def apply(self, weights: MLPWeights, obs: np.ndarray) -> np.ndarray:
+        """Outputs (n, n_out) of prepared networks for inputs (n, n_in)."""
+        hidden = np.matmul(weights.w1, obs[:, :, None])[:, :, 0]
+        hidden += weights.b1
+        np.tanh(hidden, out=hidden)
+        out = np.matmul(weights.w2, hidden[:, :, None])[:, :, 0]
+        out += weights.b2
         if self.output == "delta":
-            return np.tanh(out) * MAX_DELTA
-        if self.output == "sigmoid":
-            return 1.0 / (1.0 + np.exp(-out))
+            np.tanh(out, out=out)
+            out *= MAX_DELTA
+        elif self.output == "sigmoid":
+            np.negative(out, out=out)
+            np.exp(out, out=out)
+            out += 1.0
+            np.divide(1.0, out, out=out)
         return out
 
     def act(
         self,
-        params: np.ndarray,
+        prepared: MLPWeights,
         memory: np.ndarray,
         obs: np.ndarray,
         targets: np.ndarray,
         step: int,
     ) -> tuple[np.ndarray, np.ndarray]:
-        return self.forward(params, obs), memory
+        return self.apply(prepared, obs), memory
 
     def random_genomes(
         self, rng: np.random.Generator, n: int, scale: float = 1.0

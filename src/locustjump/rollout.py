@@ -2,10 +2,14 @@
 
 One control step for every live episode at once::
 
-    obs    = paper_inputs(qpos, sensordata)          # (n, 9), one NumPy call
-    deltas = controller.act(params, memory, obs, t)  # (n, 4), one batched call
-    ctrl   = apply_deltas(ctrl, deltas, ranges)      # servo targets
-    batch.step(nstep=substeps)                       # mujoco.batch, C threads
+    obs    = paper_inputs(qpos, sensordata)             # (n, 9), batched NumPy
+    deltas = controller.act(prepared, memory, obs, t)   # (n, 4), one batched call
+    ctrl   = apply_deltas(ctrl, deltas, ranges)         # servo targets, in place
+    batch.step(nstep=substeps)                          # mujoco.batch, C threads
+
+``prepared = controller.prepare(params)`` is computed once per rollout, and the
+per-step work is a fixed number of whole-batch NumPy calls on arrays bound to
+the batch's own memory (no copies in or out of MuJoCo).
 
 Episodes are independent rows, so a job can be split anywhere (threads,
 processes, hosts) and give bit-identical results; :func:`reference_rollout` is
@@ -35,17 +39,12 @@ from locustjump.controller import Controller
 
 #: What can be recorded per control step, and its per-step shape.
 RECORDABLE = ("qpos", "obs", "ctrl", "memory")
-#: MuJoCo warnings that mean the simulation went unstable (it resets the data).
-_UNSTABLE = np.array(
-    [
-        int(w)
-        for w in (
-            mujoco.mjtWarning.mjWARN_BADQPOS,
-            mujoco.mjtWarning.mjWARN_BADQVEL,
-            mujoco.mjtWarning.mjWARN_BADQACC,
-        )
-    ]
+#: MuJoCo warnings that mean the simulation went unstable (it resets the data):
+#: bad qpos, qvel, qacc, consecutive in ``mjtWarning``.
+_UNSTABLE = slice(
+    int(mujoco.mjtWarning.mjWARN_BADQPOS), int(mujoco.mjtWarning.mjWARN_BADQACC) + 1
 )
+assert _UNSTABLE.stop - _UNSTABLE.start == 3
 
 
 @dataclass(frozen=True)
@@ -213,10 +212,18 @@ def observer(
     of a model with addresses ``idx``."""
     return functools.partial(
         sensors.paper_inputs,
-        joint_adr=idx.qpos_joints,
-        touch_adr=idx.touch,
+        joint_adr=_as_slice(idx.qpos_joints),
+        touch_adr=_as_slice(idx.touch),
         body_length=p.body_length,
     )
+
+
+def _as_slice(adr: np.ndarray) -> np.ndarray | slice:
+    """Consecutive addresses as a slice (a view, no gather), else unchanged."""
+    a = np.asarray(adr)
+    if a.size and (np.diff(a) == 1).all():
+        return slice(int(a[0]), int(a[-1]) + 1)
+    return a
 
 
 def _run_batch(batch: Batch, job: RolloutJob) -> RolloutResult:
@@ -234,22 +241,23 @@ def _run_batch(batch: Batch, job: RolloutJob) -> RolloutResult:
     batch.forward()  # sensors at the start state, for every simulation
 
     ctl = job.controller
+    prepared = ctl.prepare(job.params)
     memory = np.zeros((n, ctl.memory_size))
     rec = _Recorder(job.record, n, T, m.nq, ctl.memory_size)
     observe = observer(idx, p)
     obs = observe(qpos, sens)
     rec.write(0, qpos, obs, ctrl, memory)
+    warn_bad = warn[:, _UNSTABLE, 1]  # a view: warning counts of every sim
     unstable = np.zeros(n, bool)
     steps = np.full(n, T)
     alive: np.ndarray | None = None  # None: all alive (no index array per step)
     done = 0
     for t in range(T):
-        deltas, memory = ctl.act(job.params, memory, obs, ctrl, t)
-        new = sensors.apply_deltas(ctrl, deltas, idx.ranges)
+        deltas, memory = ctl.act(prepared, memory, obs, ctrl, t)
         if alive is None:
-            ctrl[:] = new
+            sensors.apply_deltas(ctrl, deltas, idx.ranges, out=ctrl)
         else:
-            ctrl[alive] = new[alive]
+            ctrl[alive] = sensors.apply_deltas(ctrl, deltas, idx.ranges)[alive]
         try:
             batch.step(alive, nstep=p.substeps)
         except SimulationError as e:  # MuJoCo errors: those sims kept their state
@@ -257,21 +265,30 @@ def _run_batch(batch: Batch, job: RolloutJob) -> RolloutResult:
         else:
             warn_ids = None
         done += n if alive is None else len(alive)
-        bad = (warn[:, _UNSTABLE, 1] > 0).any(axis=1) | ~np.isfinite(qpos).all(axis=1)
-        if warn_ids is not None:
-            bad[warn_ids] = True
-        newly = bad & ~unstable
-        if newly.any():
-            unstable |= newly
-            steps[newly] = t + 1
-            alive = np.flatnonzero(~unstable)
-            # keep the last finite state of a failed episode in the records
-            qpos[newly] = np.nan_to_num(qpos[newly])
-            if alive.size == 0:
-                rec.fill_from(t + 1)
-                break
+        # fast path: one reduction each over the whole batch
+        if warn_ids is not None or warn_bad.any() or not np.isfinite(qpos).all():
+            bad = (warn_bad > 0).any(axis=1) | ~np.isfinite(qpos).all(axis=1)
+            if warn_ids is not None:
+                bad[warn_ids] = True
+            newly = bad & ~unstable
+            if newly.any():
+                unstable |= newly
+                steps[newly] = t + 1
+                alive = np.flatnonzero(~unstable)
+                # keep the last finite state of a failed episode in the records
+                qpos[newly] = np.nan_to_num(qpos[newly])
+                if alive.size == 0:
+                    rec.fill_from(t + 1)
+                    break
         obs = observe(qpos, sens)
-        rec.write(t + 1, qpos, obs, ctrl, memory, frozen=unstable)
+        rec.write(
+            t + 1,
+            qpos,
+            obs,
+            ctrl,
+            memory,
+            frozen=unstable if alive is not None else None,
+        )
     return RolloutResult(rec.arrays, unstable, steps, done)
 
 
@@ -286,12 +303,14 @@ class _Recorder:
             "memory": (nmem,),
         }
         self.arrays = {k: np.empty((n, T + 1, *shape[k])) for k in names}
+        self._order = tuple(RECORDABLE.index(k) for k in names)
 
     def write(self, t, qpos, obs, ctrl, memory, frozen=None) -> None:
-        src = {"qpos": qpos, "obs": obs, "ctrl": ctrl, "memory": memory}
-        for k, a in self.arrays.items():
-            a[:, t] = src[k]
-            if frozen is not None and frozen.any():
+        """Row ``t``; episodes flagged in ``frozen`` repeat row ``t - 1``."""
+        src = (qpos, obs, ctrl, memory)
+        for i, a in zip(self._order, self.arrays.values(), strict=True):
+            a[:, t] = src[i]
+            if frozen is not None:
                 a[frozen, t] = a[frozen, t - 1]
 
     def fill_from(self, t: int) -> None:
@@ -317,7 +336,7 @@ def reference_rollout(job: RolloutJob) -> RolloutResult:
             job.starts.ctrl[e],
         )
         mujoco.mj_forward(m, d)
-        params = job.params[e : e + 1]
+        prepared = job.controller.prepare(job.params[e : e + 1])
         memory = np.zeros((1, job.controller.memory_size))
         rec = _Recorder(job.record, 1, job.n_steps, m.nq, job.controller.memory_size)
 
@@ -328,7 +347,7 @@ def reference_rollout(job: RolloutJob) -> RolloutResult:
         rec.write(0, d.qpos[None], obs, d.ctrl[None], memory)
         unstable, steps = False, job.n_steps
         for t in range(job.n_steps):
-            deltas, memory = job.controller.act(params, memory, obs, d.ctrl[None], t)
+            deltas, memory = job.controller.act(prepared, memory, obs, d.ctrl[None], t)
             d.ctrl[:] = sensors.apply_deltas(d.ctrl[None], deltas, idx.ranges)[0]
             try:
                 mujoco.mj_step(m, d, nstep=p.substeps)
@@ -336,7 +355,10 @@ def reference_rollout(job: RolloutJob) -> RolloutResult:
                 unstable = True
             if (
                 unstable
-                or any(d.warning[w].number > 0 for w in _UNSTABLE)
+                or any(
+                    d.warning[w].number > 0
+                    for w in range(_UNSTABLE.start, _UNSTABLE.stop)
+                )
                 or not np.isfinite(d.qpos).all()
             ):
                 unstable, steps = True, t + 1

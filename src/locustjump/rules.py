@@ -59,9 +59,13 @@ class RuleController:
             raise ValueError("change time must be >= 0 seconds")
         return np.round(t / CONTROL_DT)[:, None]
 
+    def prepare(self, params: np.ndarray) -> np.ndarray:
+        """The change time of each episode, (n,) control steps."""
+        return np.asarray(params, dtype=np.float64)[:, 0]
+
     def act(
         self,
-        params: np.ndarray,
+        prepared: np.ndarray,
         memory: np.ndarray,
         obs: np.ndarray,
         targets: np.ndarray,
@@ -69,7 +73,7 @@ class RuleController:
     ) -> tuple[np.ndarray, np.ndarray]:
         touching = obs[:, 4] < 0
         touch_time = np.where(touching, memory[:, 0] + 1, 0.0)
-        kick = touching & (touch_time >= params[:, 0])
+        kick = touching & (touch_time >= prepared)
         goal = np.where(kick[:, None], self.extended, self.ready)
         deltas = np.clip(goal - targets, -MAX_DELTA, MAX_DELTA)
         return deltas, touch_time[:, None]

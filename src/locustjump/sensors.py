@@ -44,20 +44,27 @@ N_ACTUATORS = 4
 MAX_DELTA = np.radians(10.0)  # (rad) largest target change per control step
 
 
-def up_axis_in_body(quat: np.ndarray) -> np.ndarray:
+def up_axis_in_body(quat: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
     """World z expressed in the body frame, (n, 3), from quaternions (n, 4) wxyz.
 
     Equal to the third row of the rotation matrix: (x_b . z, y_b . z, z_b . z).
+    ``out``, if given, is an (n, 3) array (or view) to write into.
     """
     w, x, y, z = quat[:, 0], quat[:, 1], quat[:, 2], quat[:, 3]
-    out = np.empty((quat.shape[0], 3))
+    if out is None:
+        out = np.empty((quat.shape[0], 3))
+    tmp = w * y
     np.multiply(x, z, out=out[:, 0])
-    out[:, 0] -= w * y
+    out[:, 0] -= tmp
     out[:, 0] *= 2.0
+    np.multiply(w, x, out=tmp)
     np.multiply(y, z, out=out[:, 1])
-    out[:, 1] += w * x
+    out[:, 1] += tmp
     out[:, 1] *= 2.0
-    out[:, 2] = 1.0 - 2.0 * (x * x + y * y)
+    np.multiply(x, x, out=tmp)
+    tmp += y * y
+    tmp *= 2.0
+    np.subtract(1.0, tmp, out=out[:, 2])
     return out
 
 
@@ -65,8 +72,8 @@ def paper_inputs(
     qpos: np.ndarray,
     sensordata: np.ndarray,
     *,
-    joint_adr: np.ndarray,
-    touch_adr: np.ndarray,
+    joint_adr: np.ndarray | slice,
+    touch_adr: np.ndarray | slice,
     body_length: float,
 ) -> np.ndarray:
     """The 9 inputs I1–I9 for a batch.
@@ -75,8 +82,10 @@ def paper_inputs(
       qpos: (n, nq) positions; the free joint's position and quaternion come
         first (qpos[:, 0:7]).
       sensordata: (n, nsensordata).
-      joint_adr: (4,) qpos addresses of the actuated joints, order I1–I4.
-      touch_adr: (2,) sensordata addresses of the two tarsus touch sensors.
+      joint_adr: (4,) qpos addresses of the actuated joints, order I1–I4 (or
+        the equivalent slice, which is faster).
+      touch_adr: (2,) sensordata addresses of the two tarsus touch sensors (or
+        a slice).
       body_length: (m) body length, the unit of H in I6.
 
     Returns:
@@ -86,15 +95,23 @@ def paper_inputs(
     obs = np.empty((n, N_INPUTS))
     obs[:, 0:4] = qpos[:, joint_adr]
     touching = (sensordata[:, touch_adr] > 0.0).any(axis=1)
-    obs[:, 4] = np.where(touching, -1.0, 1.0)
-    height = np.maximum(qpos[:, 2], 0.0) / body_length
-    obs[:, 5] = 1.0 / (height + 1.0)
-    obs[:, 6:9] = up_axis_in_body(qpos[:, 3:7])
+    # +1 off the ground, -1 on it
+    np.subtract(1.0, touching, out=obs[:, 4])
+    obs[:, 4] -= touching
+    height = obs[:, 5]
+    np.maximum(qpos[:, 2], 0.0, out=height)
+    height /= body_length
+    height += 1.0
+    np.divide(1.0, height, out=height)
+    up_axis_in_body(qpos[:, 3:7], out=obs[:, 6:9])
     return obs
 
 
 def apply_deltas(
-    targets: np.ndarray, deltas: np.ndarray, ranges: np.ndarray
+    targets: np.ndarray,
+    deltas: np.ndarray,
+    ranges: np.ndarray,
+    out: np.ndarray | None = None,
 ) -> np.ndarray:
     """New servo targets: ``clip(targets + clip(deltas, +-10 deg), range)``.
 
@@ -102,9 +119,13 @@ def apply_deltas(
       targets: (n, 4) current targets, radians.
       deltas: (n, 4) requested changes, radians (clipped to +-10 deg).
       ranges: (4, 2) joint ranges, radians.
+      out: where to write the result; may be ``targets`` itself.
 
     Returns:
       (n, 4) new targets.
     """
-    step = np.clip(deltas, -MAX_DELTA, MAX_DELTA)
-    return np.clip(targets + step, ranges[:, 0], ranges[:, 1])
+    step = np.maximum(deltas, -MAX_DELTA)
+    np.minimum(step, MAX_DELTA, out=step)
+    step += targets
+    np.maximum(step, ranges[:, 0], out=step)
+    return np.minimum(step, ranges[:, 1], out=step if out is None else out)
