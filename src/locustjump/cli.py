@@ -129,12 +129,21 @@ def cmd_train(args: argparse.Namespace) -> int:
             cfg = cfg.replace(rcga=cfg.rcga.replace(population=args.population))
     if args.generations is not None:
         cfg = cfg.replace(generations=args.generations)
+    dirs = {"kick": args.kick, "getup": args.getup, "return-legs": args.return_legs}
+    simple = None
+    if args.behaviour != "composed":
+        given = [f"--{k}" for k, v in dirs.items() if v is not None]
+        if given:
+            raise io.UserError(f"{', '.join(given)}: only for train composed")
+    elif not args.resume or any(v is not None for v in dirs.values()):
+        simple = runs.SimpleGenomes.from_runs(dirs, cfg.model)
     res = runs.train(
         cfg,
         args.out,
         resume=args.resume,
         backend=ThreadBackend(args.threads),
         progress=not args.quiet,
+        simple=simple,
     )
     print(
         f"{cfg.behaviour}: {res.generation} generations, best fitness "
@@ -285,6 +294,12 @@ def build_parser() -> argparse.ArgumentParser:
         help="continue the run in DIR (a larger --generations extends it)",
     )
     p.add_argument("--quiet", action="store_true", help="no progress bar")
+    for name in ("kick", "getup", "return-legs"):
+        p.add_argument(
+            f"--{name}",
+            metavar="DIR",
+            help=f"composed: the {name} run whose best network it switches to",
+        )
     p.set_defaults(func=cmd_train)
 
     p = sub.add_parser(

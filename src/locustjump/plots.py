@@ -73,6 +73,79 @@ def fitness_curves(path: Path, metrics: np.ndarray, *, title: str = "") -> None:
     _finish(fig, ax, path, title, legend="lower right")
 
 
+def composed_figure(
+    path: Path,
+    curves: list[tuple[str, np.ndarray, list[Jump]]],
+    selected: np.ndarray | None,
+    names: tuple[str, ...],
+    *,
+    title: str = "",
+) -> None:
+    """The paper's Fig. 12: trajectories (z vs x) and, under them, the simple
+    behaviour selected at each control step of the first curve.
+
+    Args:
+      path: the PNG to write.
+      curves: (label, qpos (T + 1, nq), jumps) per trajectory, first the
+        controlled one.
+      selected: (T,) index into ``names`` per control step, or None.
+      names: the simple behaviours' names.
+      title: figure title.
+    """
+    from matplotlib.colors import ListedColormap
+
+    rows = 2 if selected is not None else 1
+    fig, axes = plt.subplots(
+        rows,
+        1,
+        figsize=(9, 4.6 if rows == 2 else 3.6),
+        constrained_layout=True,
+        height_ratios=[4, 1] if rows == 2 else None,
+        squeeze=False,
+    )
+    ax = axes[0, 0]
+    for label, qpos, jumps in curves:
+        (line,) = ax.plot(qpos[:, 0], qpos[:, 2], lw=1.2, label=label)
+        if jumps:
+            ax.plot(
+                [j.apex_x for j in jumps],
+                [j.apex_height for j in jumps],
+                "v",
+                color=line.get_color(),
+                ms=5,
+                label=f"{label}: {len(jumps)} jumps (apex)",
+            )
+    ax.set_xlabel("distance x [m]")
+    ax.set_ylabel("height z [m]")
+    ax.set_ylim(bottom=0)
+    ax.grid(alpha=0.3)
+    ax.legend(loc="upper right", fontsize=8)
+    if title:
+        ax.set_title(title)
+    if selected is not None:
+        from locustjump.model import CONTROL_DT
+
+        tl = axes[1, 0]
+        colors = ListedColormap(["tab:red", "tab:green", "tab:blue"][: len(names)])
+        tl.imshow(
+            selected[None, :],
+            aspect="auto",
+            cmap=colors,
+            vmin=-0.5,
+            vmax=len(names) - 0.5,
+            interpolation="nearest",
+            extent=(0, len(selected) * CONTROL_DT, 0, 1),
+        )
+        tl.set_yticks([])
+        tl.set_xlabel("time [s]")
+        tl.set_title("selected simple behaviour", fontsize=9)
+        for i, n in enumerate(names):
+            tl.plot([], [], "s", color=colors(i), label=n)
+        tl.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=8)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
 def getup_figure(
     path: Path, uz: np.ndarray, rolls: tuple[float, ...], success: float
 ) -> None:

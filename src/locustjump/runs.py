@@ -5,6 +5,7 @@
     DIR/checkpoint.npz   the GA state after the last generation (atomic)
     DIR/best.npz         the best genome so far (atomic)
     DIR/fitness.png      best and mean fitness per generation
+    DIR/simple.npz       composed runs: the frozen kick, getup, return-legs genomes
     DIR/eval/            written by ``evaluate_run`` (``locustjump evaluate``)
 
 Every file is loaded without pickle (TOML, CSV, ``.npz`` with
@@ -31,7 +32,12 @@ import numpy as np
 import tomli_w
 
 from locustjump import model as lm
-from locustjump.behaviours import BEHAVIOURS, Behaviour, get_behaviour
+from locustjump.behaviours import (
+    BEHAVIOURS,
+    SIMPLE_BEHAVIOURS,
+    Behaviour,
+    get_behaviour,
+)
 from locustjump.io import UserError
 from locustjump.rcga import RCGA, RCGAParams
 from locustjump.rollout import Backend, get_backend
@@ -41,6 +47,7 @@ METRICS = "metrics.csv"
 CHECKPOINT = "checkpoint.npz"
 BEST = "best.npz"
 FITNESS_PNG = "fitness.png"
+SIMPLE = "simple.npz"
 FORMAT = 1  # version of checkpoint.npz / best.npz
 METRICS_COLUMNS = (
     "generation",
@@ -67,6 +74,8 @@ class TrainConfig:
     generations: int = 1000  # paper: 1000
     rcga: RCGAParams = field(default_factory=RCGAParams)
     model: lm.LocustParams = field(default_factory=lm.LocustParams)
+    #: composed runs: digest of the three frozen simple genomes (``simple.npz``)
+    simple: str = ""
 
     def __post_init__(self) -> None:
         if self.behaviour not in BEHAVIOURS:
@@ -89,13 +98,16 @@ class TrainConfig:
                 for f in dataclasses.fields(obj)
             }
 
-        return {
+        d = {
             "behaviour": self.behaviour,
             "seed": self.seed,
             "generations": self.generations,
             "rcga": table(self.rcga),
             "model": table(self.model),
         }
+        if self.simple:
+            d["simple"] = self.simple
+        return d
 
     def hash(self) -> str:
         """Identity of the experiment: everything but ``generations`` (a run may
@@ -108,7 +120,7 @@ class TrainConfig:
     @classmethod
     def from_dict(cls, d: dict[str, Any], source: str) -> TrainConfig:
         """Checked conversion; a ``UserError`` names ``source`` and the key."""
-        top = {"behaviour": "kick", "seed": 0, "generations": 1000}
+        top = {"behaviour": "kick", "seed": 0, "generations": 1000, "simple": ""}
         kwargs: dict[str, Any] = {}
         for key, value in d.items():
             if key in top:
@@ -277,6 +289,104 @@ class BestGenome:
         return best
 
 
+@dataclass(frozen=True)
+class SimpleGenomes:
+    """The frozen simple networks of a composed run (``DIR/simple.npz``).
+
+    ``genomes`` (3, 144) in ``SIMPLE_BEHAVIOURS`` order; ``sources`` the run
+    directories they came from and ``hashes`` those runs' config hashes (for
+    the record: the composed run never reads them again).
+    """
+
+    genomes: np.ndarray
+    sources: tuple[str, ...]
+    hashes: tuple[str, ...]
+
+    @property
+    def digest(self) -> str:
+        """16 hex digits identifying the three genomes (in ``config.toml``)."""
+        data = np.ascontiguousarray(self.genomes, dtype="<f8").tobytes()
+        return hashlib.sha256(data).hexdigest()[:16]
+
+    @classmethod
+    def from_runs(
+        cls, dirs: dict[str, str | os.PathLike], model: lm.LocustParams
+    ) -> SimpleGenomes:
+        """Best genomes of a kick, a getup and a return-legs run; each must hold
+        that behaviour and the same model parameters (``UserError`` naming the
+        directory otherwise)."""
+        genomes, sources, hashes = [], [], []
+        for name in SIMPLE_BEHAVIOURS:
+            if name not in dirs or dirs[name] is None:
+                raise UserError(
+                    "train composed needs --kick, --getup and --return-legs run "
+                    f"directories (missing --{name})"
+                )
+            d = Path(dirs[name])
+            cfg, _, best = load_run(d)
+            if cfg.behaviour != name:
+                raise UserError(
+                    f"--{name} {d}: holds a {cfg.behaviour!r} run, not {name!r}"
+                )
+            if cfg.model != model:
+                diff = [
+                    k for k, v in cfg.to_dict()["model"].items()
+                    if TrainConfig(model=model).to_dict()["model"][k] != v
+                ]  # fmt: skip
+                raise UserError(
+                    f"--{name} {d}: its model parameters differ from this run's "
+                    f"({', '.join(diff)})"
+                )
+            genomes.append(best.genome)
+            sources.append(str(d))
+            hashes.append(best.config_hash)
+        return cls(np.stack(genomes), tuple(sources), tuple(hashes))
+
+    def save(self, path: Path) -> None:
+        _atomic_write_bytes(
+            path,
+            lambda f: np.savez(
+                f,
+                format=np.array(FORMAT),
+                behaviours=np.array(SIMPLE_BEHAVIOURS),
+                genomes=self.genomes,
+                sources=np.array(self.sources),
+                hashes=np.array(self.hashes),
+            ),
+        )
+
+    @classmethod
+    def load(cls, path: Path) -> SimpleGenomes:
+        z = _load_npz(path, ("format", "behaviours", "genomes", "sources", "hashes"))
+        if tuple(str(b) for b in z["behaviours"]) != SIMPLE_BEHAVIOURS:
+            raise UserError(
+                f"{path}: not the genomes of {', '.join(SIMPLE_BEHAVIOURS)}"
+            )
+        g = np.asarray(z["genomes"], dtype=np.float64)
+        n = get_behaviour("kick").controller.num_params
+        if g.shape != (len(SIMPLE_BEHAVIOURS), n) or not np.isfinite(g).all():
+            raise UserError(f"{path}: genomes must be finite, shape (3, {n})")
+        return cls(
+            g,
+            tuple(str(x) for x in z["sources"]),
+            tuple(str(x) for x in z["hashes"]),
+        )
+
+
+def behaviour_of(cfg: TrainConfig, out: Path) -> Behaviour:
+    """The behaviour of the run in ``out`` (a composed run reads its frozen
+    simple genomes from ``simple.npz`` and checks them against the config)."""
+    if cfg.behaviour != "composed":
+        return get_behaviour(cfg.behaviour)
+    simple = SimpleGenomes.load(out / SIMPLE)
+    if simple.digest != cfg.simple:
+        raise UserError(
+            f"{out / SIMPLE}: its genomes (digest {simple.digest}) are not the ones "
+            f"{out / CONFIG} names ({cfg.simple or 'none'})"
+        )
+    return get_behaviour("composed", simple.genomes)
+
+
 # --- metrics --------------------------------------------------------------------
 
 
@@ -408,6 +518,7 @@ def train(
     backend: Backend | None = None,
     progress: bool = True,
     stop_after: int | None = None,
+    simple: SimpleGenomes | None = None,
 ) -> TrainResult:
     """Evolve ``cfg.behaviour`` into run directory ``out``.
 
@@ -421,14 +532,26 @@ def train(
       progress: show a progress bar (on stderr).
       stop_after: stop after this many generations in this call (the run stays
         resumable; used to test interruption).
+      simple: composed runs: the frozen simple genomes (required for a new
+        run; on resume, if given, they must be the run's own).
 
     Returns:
       The directory, the generations completed and the best genome.
     """
     out = Path(out)
-    beh = get_behaviour(cfg.behaviour)
+    composed = cfg.behaviour == "composed"
+    if composed and simple is not None:
+        if cfg.simple not in ("", simple.digest):
+            raise UserError(
+                f"the simple genomes (digest {simple.digest}) are not the ones the "
+                f"configuration names ({cfg.simple})"
+            )
+        cfg = cfg.replace(simple=simple.digest)
     if resume:
+        if composed and not cfg.simple and (out / CONFIG).is_file():
+            cfg = cfg.replace(simple=load_config(out / CONFIG).simple)
         extend = _check_resume(out, cfg)
+        beh = behaviour_of(cfg, out)
         run = _Run(out, cfg, beh)
         if (out / CHECKPOINT).exists():
             run.restore()  # checked before anything is written
@@ -436,8 +559,16 @@ def train(
             write_config(out / CONFIG, cfg)
     else:
         _check_new(out)
+        if composed and simple is None:
+            raise UserError(
+                "train composed needs the kick, getup and return-legs runs it "
+                "switches between (--kick DIR --getup DIR --return-legs DIR)"
+            )
         out.mkdir(parents=True, exist_ok=True)
+        if simple is not None and composed:
+            simple.save(out / SIMPLE)
         write_config(out / CONFIG, cfg)
+        beh = behaviour_of(cfg, out)
         run = _Run(out, cfg, beh)
     _truncate_metrics(out / METRICS, run.ga.generation, run.metrics_row)
     return _loop(run, get_backend(backend), progress, stop_after)
@@ -591,7 +722,7 @@ def load_run(path: str | os.PathLike) -> tuple[TrainConfig, Behaviour, BestGenom
     if not (out / CONFIG).is_file():
         raise UserError(f"{out}: holds no run (no {CONFIG})")
     cfg = load_config(out / CONFIG)
-    beh = get_behaviour(cfg.behaviour)
+    beh = behaviour_of(cfg, out)
     if not (out / BEST).is_file():
         raise UserError(f"{out}: no {BEST} yet (the run has not finished a generation)")
     best = BestGenome.load(out / BEST, beh.controller.num_params)
@@ -615,9 +746,7 @@ def evaluate_run(
     out = Path(path)
     cfg, beh, best = load_run(out)
     p = cfg.model
-    res = beh.simulate(
-        best.genome[None], p, backend=backend, record=("qpos", "obs", "ctrl")
-    )
+    res = beh.simulate(best.genome[None], p, backend=backend, record=beh.eval_record)
     fitness = float(beh.fitness(res, p)[0])
     metrics = beh.metrics(res, p, best.genome)
     ev = out / "eval"

@@ -62,6 +62,8 @@ class Behaviour:
     name: ClassVar[str]
     n_steps: ClassVar[int]
     record: ClassVar[tuple[str, ...]] = ("qpos",)
+    #: what ``evaluate_run`` records (its trajectory CSV needs the first three)
+    eval_record: ClassVar[tuple[str, ...]] = ("qpos", "obs", "ctrl")
     worst_fitness: ClassVar[float] = 0.0
 
     @property
