@@ -183,37 +183,63 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
 
 def cmd_sweep_getup(args: argparse.Namespace) -> int:
     from locustjump import runs
-    from locustjump.behaviours.getup import sweep_angles, sweep_getup
-    from locustjump.plots import sweep_figure
+    from locustjump.behaviours.getup import sweep_angles
 
     angles = sweep_angles(args.step_deg, args.from_deg, args.to_deg)
-    cfg, _, best = runs.load_run(args.run)
-    if cfg.behaviour != "getup":
-        raise io.UserError(
-            f"{args.run}: holds a {cfg.behaviour!r} run; sweep-getup needs a getup run"
-        )
-    sw = sweep_getup(best.genome, cfg.model, angles)
-    out = Path(args.run) / "sweep"
-    out.mkdir(exist_ok=True)
-    table = np.column_stack(
-        [sw.roll_deg, sw.training, sw.success, sw.start_uz, sw.final_uz,
-         sw.time_to_get_up_s]
-    )  # fmt: skip
-    np.savetxt(
-        out / "sweep.csv",
-        table,
-        delimiter=",",
-        header="angle_deg,training,success,start_uz,final_uz,time_to_get_up_s",
-        comments="",
-        fmt=["%.6g", "%d", "%d", "%.6f", "%.6f", "%.6g"],
-    )
-    sweep_figure(out / "sweep.png", sw)
+    sw, files = runs.sweep_run(args.run, angles)
     n_train = int(sw.training.sum())
     print(
         f"got up from {sw.got_up} of {sw.n_sweep} (the paper: 65 of 180); "
         f"training states: {int(sw.success[sw.training].sum())} of {n_train}"
     )
-    print(f"wrote {out / 'sweep.csv'} and {out / 'sweep.png'}")
+    print("wrote " + " and ".join(str(f) for f in files))
+    return 0
+
+
+def cmd_reproduce(args: argparse.Namespace) -> int:
+    from locustjump.reproduce import reproduce
+    from locustjump.rollout import ThreadBackend
+
+    command = (
+        f"locustjump reproduce --budget {args.budget} --seed {args.seed} "
+        f"--out {args.out}"
+    )
+    path = reproduce(
+        args.out,
+        budget=args.budget,
+        seed=args.seed,
+        backend=ThreadBackend(args.threads),
+        progress=not args.quiet,
+        command=command,
+    )
+    print(path.read_text().split("## Beyond")[0].rstrip())
+    return 0
+
+
+def cmd_replay(args: argparse.Namespace) -> int:
+    from locustjump.reproduce import replay
+
+    failed = 0
+    for stage, ev in replay(args.dir, args.out, force=args.force):
+        status = "matches" if ev.matches else "DIFFERS from"
+        failed += not ev.matches
+        m = ev.metrics
+        keys = {
+            "kick": ("apex_height_m", "apex_height_ratio_to_rules"),
+            "getup": ("got_up_from",),
+            "return-legs": ("final_error_deg",),
+            "composed": ("jumps", "apex_heights_m", "min_apex_ratio_to_rules"),
+            "monolithic": ("jumps", "apex_heights_m"),
+        }[stage]
+        shown = ", ".join(f"{k} {m.get(k)}" for k in keys)
+        print(f"[{stage}] fitness {ev.fitness:.6g} ({status} the record); {shown}")
+    print(f"wrote {args.out}/<stage>/ (figures and trajectories)")
+    if failed:
+        print(
+            f"locustjump: error: {failed} stage(s) re-simulated to another fitness",
+            file=sys.stderr,
+        )
+        return 1
     return 0
 
 
@@ -328,6 +354,48 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--from-deg", type=_finite_float("--from-deg"), default=90.0)
     p.add_argument("--to-deg", type=_finite_float("--to-deg"), default=270.0)
     p.set_defaults(func=cmd_sweep_getup)
+
+    from locustjump.reproduce import BUDGETS
+
+    p = sub.add_parser(
+        "reproduce",
+        help="run every experiment of the paper in order, write results.md",
+        description=(
+            "Rule-based baseline, kick, getup (+ sweep), return-legs, composed and "
+            "a monolithic baseline, each in DIR/<stage>/; DIR/results.md compares "
+            "each claim of the paper with ours. Rerun the same command to continue "
+            "after an interruption."
+        ),
+    )
+    p.add_argument(
+        "--budget",
+        choices=tuple(BUDGETS),
+        default="quick",
+        help="quick: about 10 min on 2 cores; paper: 50 x 1000 per stage",
+    )
+    p.add_argument("--seed", type=_int_at_least("--seed", 0), default=0)
+    p.add_argument(
+        "--threads",
+        type=_int_at_least("--threads", 1),
+        help="simulation threads (default: all CPUs; the result does not depend on it)",
+    )
+    p.add_argument("--out", required=True, metavar="DIR")
+    p.add_argument("--quiet", action="store_true", help="no progress bars")
+    p.set_defaults(func=cmd_reproduce)
+
+    p = sub.add_parser(
+        "replay",
+        help="re-simulate a reproduction's best genomes, write figures",
+        description=(
+            "Re-simulate the best genome of every stage of a reproduction "
+            "directory (e.g. the shipped results/), check each fitness against "
+            "the recorded one, and write figures and trajectories into OUT."
+        ),
+    )
+    p.add_argument("dir", metavar="DIR", help="a reproduction directory")
+    p.add_argument("--out", required=True, metavar="OUT", help="output directory")
+    p.add_argument("--force", action="store_true", help="write into a non-empty OUT")
+    p.set_defaults(func=cmd_replay)
     return ap
 
 

@@ -735,9 +735,13 @@ def load_run(path: str | os.PathLike) -> tuple[TrainConfig, Behaviour, BestGenom
 
 
 def evaluate_run(
-    path: str | os.PathLike, *, backend: Backend | None = None
+    path: str | os.PathLike,
+    *,
+    backend: Backend | None = None,
+    eval_dir: str | os.PathLike | None = None,
 ) -> Evaluation:
-    """Re-simulate a run's best genome; write ``DIR/eval/`` (CSV + figures).
+    """Re-simulate a run's best genome; write ``DIR/eval/`` (CSV + figures),
+    or ``eval_dir`` if given.
 
     ``eval/`` holds derived files only: they are rewritten on every call.
     """
@@ -749,8 +753,8 @@ def evaluate_run(
     res = beh.simulate(best.genome[None], p, backend=backend, record=beh.eval_record)
     fitness = float(beh.fitness(res, p)[0])
     metrics = beh.metrics(res, p, best.genome)
-    ev = out / "eval"
-    ev.mkdir(exist_ok=True)
+    ev = out / "eval" if eval_dir is None else Path(eval_dir)
+    ev.mkdir(parents=True, exist_ok=True)
     labels = beh.state_labels()
     files = []
     for e, label in enumerate(labels):
@@ -761,3 +765,40 @@ def evaluate_run(
         )
     files += beh.write_figures(res, p, ev)
     return Evaluation(cfg.behaviour, fitness, best.fitness, metrics, files)
+
+
+def sweep_run(
+    path: str | os.PathLike,
+    angles: np.ndarray,
+    *,
+    backend: Backend | None = None,
+) -> tuple[Any, list[Path]]:
+    """The get-up generalisation test of getup run ``path``'s best genome from
+    roll ``angles`` (plus the training states): ``DIR/sweep/sweep.csv`` and
+    ``sweep.png``. Returns the :class:`~locustjump.behaviours.getup.Sweep` and
+    the files."""
+    from locustjump.behaviours.getup import sweep_getup
+    from locustjump.plots import sweep_figure
+
+    cfg, _, best = load_run(path)
+    if cfg.behaviour != "getup":
+        raise UserError(
+            f"{path}: holds a {cfg.behaviour!r} run; sweep-getup needs a getup run"
+        )
+    sw = sweep_getup(best.genome, cfg.model, angles, backend=backend)
+    out = Path(path) / "sweep"
+    out.mkdir(exist_ok=True)
+    table = np.column_stack(
+        [sw.roll_deg, sw.training, sw.success, sw.start_uz, sw.final_uz,
+         sw.time_to_get_up_s]
+    )  # fmt: skip
+    np.savetxt(
+        out / "sweep.csv",
+        table,
+        delimiter=",",
+        header="angle_deg,training,success,start_uz,final_uz,time_to_get_up_s",
+        comments="",
+        fmt=["%.6g", "%d", "%d", "%.6f", "%.6f", "%.6g"],
+    )
+    sweep_figure(out / "sweep.png", sw)
+    return sw, [out / "sweep.csv", out / "sweep.png"]

@@ -1,0 +1,227 @@
+"""Behaviour Composed: the switcher, composed runs and their bad input, and the
+one-command reproduction (on a tiny budget) with replay."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from locustjump import runs
+from locustjump.behaviours import get_behaviour
+from locustjump.behaviours.composed import (
+    SIMPLE,
+    SWITCH_EVERY,
+    SwitchingController,
+    overturns,
+)
+from locustjump.cli import main
+from locustjump.controller import MLP
+from locustjump.io import UserError
+from locustjump.rcga import RCGAParams
+from locustjump.reproduce import MARKER, RESULTS, Budget, replay, reproduce
+from locustjump.rollout import ThreadBackend
+
+NET, SWITCH = MLP(), MLP(n_out=3, output="sigmoid")
+
+
+def switcher_choosing(index: np.ndarray | int, n: int = 1) -> np.ndarray:
+    """Switcher genomes whose largest output is ``index`` whatever the input."""
+    g = np.zeros((n, SWITCH.num_params))
+    g[np.arange(n), SWITCH.num_params - 3 + np.asarray(index)] = 5.0  # output bias
+    return g
+
+
+def test_switcher_picks_the_largest_output_and_holds_it(rng):
+    simple = NET.random_genomes(rng, 3)
+    ctl = SwitchingController(simple)
+    assert ctl.num_params == 133 and ctl.memory_size == 1
+    obs = rng.uniform(-1, 1, size=(3, 9))
+    prep = ctl.prepare(switcher_choosing([2, 0, 1], 3))
+    deltas, mem = ctl.act(prep, np.zeros((3, 1)), obs, np.zeros((3, 4)), 0)
+    np.testing.assert_array_equal(mem[:, 0], [2, 0, 1])
+    # each row runs its selected frozen network, bit for bit as on its own
+    for row, chosen in enumerate([2, 0, 1]):
+        alone = NET.forward(simple[chosen : chosen + 1], obs[row : row + 1])[0]
+        np.testing.assert_array_equal(deltas[row], alone)
+    # between switches the memory, not the switcher, decides
+    held = np.array([[1.0], [1.0], [1.0]])
+    _, mem = ctl.act(prep, held, obs, np.zeros((3, 4)), SWITCH_EVERY - 1)
+    np.testing.assert_array_equal(mem, held)
+    _, mem = ctl.act(prep, held, obs, np.zeros((3, 4)), SWITCH_EVERY)
+    np.testing.assert_array_equal(mem[:, 0], [2, 0, 1])
+
+
+def test_switching_controller_rejects_wrong_simple_genomes():
+    with pytest.raises(ValueError, match="shape"):
+        SwitchingController(np.zeros((2, 144)))
+    with pytest.raises(ValueError, match="three simple"):
+        get_behaviour("composed").controller  # noqa: B018
+
+
+def test_composed_rollout_same_on_any_threads_and_switches_every_120(rng, params):
+    beh = get_behaviour("composed", NET.random_genomes(rng, 3))
+    g = SWITCH.random_genomes(rng, 3, scale=2.0)
+    a = beh.simulate(g, params, record=("qpos", "memory"), backend=ThreadBackend(1))
+    b = beh.simulate(g, params, record=("qpos", "memory"), backend=ThreadBackend(2))
+    for k in ("qpos", "memory"):
+        np.testing.assert_array_equal(a[k], b[k])
+    sel = a["memory"][:, 1:, 0]  # the selection in force during step t
+    changes = np.flatnonzero((np.diff(sel, axis=1) != 0).any(axis=0)) + 1
+    assert np.all(changes % SWITCH_EVERY == 0)
+    assert set(np.unique(sel)) <= {0.0, 1.0, 2.0}
+    f = beh.fitness(a, params)
+    np.testing.assert_allclose(f, a["qpos"][:, 1:, 2].sum(axis=1))
+
+
+def test_overturns_counts_falls_and_recoveries():
+    uz = np.array([1.0, 0.95, -0.5, -0.9, 0.2, 0.95, 1.0, -0.1, 0.5])
+    assert overturns(uz) == (2, 1)
+    assert overturns(np.array([-1.0, -1.0, 0.95])) == (0, 0)  # started overturned
+
+
+# --- composed runs -------------------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def simple_runs(tmp_path_factory) -> dict[str, Path]:
+    root = tmp_path_factory.mktemp("simple")
+    dirs = {}
+    for name in SIMPLE:
+        cfg = runs.TrainConfig(
+            behaviour=name, generations=1, rcga=RCGAParams(population=4)
+        )
+        runs.train(cfg, root / name, progress=False)
+        dirs[name] = root / name
+    return dirs
+
+
+def test_composed_run_keeps_its_frozen_genomes(simple_runs, tmp_path):
+    cfg = runs.TrainConfig(
+        behaviour="composed", generations=2, rcga=RCGAParams(population=4)
+    )
+    simple = runs.SimpleGenomes.from_runs(simple_runs, cfg.model)
+    out = tmp_path / "c"
+    runs.train(cfg.replace(generations=1), out, progress=False, simple=simple)
+    stored = runs.load_config(out / runs.CONFIG)
+    assert stored.simple == simple.digest
+    np.testing.assert_array_equal(
+        runs.SimpleGenomes.load(out / runs.SIMPLE).genomes, simple.genomes
+    )
+    # resume needs nothing but the directory, and equals an uninterrupted run
+    runs.train(cfg, out, progress=False, resume=True)
+    whole = tmp_path / "whole"
+    runs.train(cfg, whole, progress=False, simple=simple)
+    for name in (runs.BEST, runs.CHECKPOINT):
+        with np.load(out / name) as a, np.load(whole / name) as b:
+            for k in set(a.files) - {"metrics_row"}:  # holds the wall time
+                np.testing.assert_array_equal(a[k], b[k], err_msg=f"{name}:{k}")
+    ev = runs.evaluate_run(out)
+    assert ev.matches and (out / "eval" / "composed.png").is_file()
+    assert set(ev.metrics["selected_steps"]) == set(SIMPLE)
+
+
+def test_composed_bad_input(simple_runs, tmp_path, capsys):
+    swapped = {**simple_runs, "kick": simple_runs["getup"]}
+    argv = ["train", "composed", "--generations", "1", "--population", "4"]
+    dirs = [f"--{k}={v}" for k, v in swapped.items()]
+    assert main([*argv, *dirs, "--out", str(tmp_path / "a")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and "holds a 'getup' run, not 'kick'" in err
+    assert str(simple_runs["getup"]) in err
+    assert not (tmp_path / "a").exists()
+    # missing a simple run
+    assert (
+        main([*argv, f"--kick={simple_runs['kick']}", "--out", str(tmp_path / "b")])
+        == 2
+    )
+    assert "--getup" in capsys.readouterr().err
+    # --kick on a simple behaviour
+    assert (
+        main(
+            [
+                "train",
+                "kick",
+                f"--kick={simple_runs['kick']}",
+                "--out",
+                str(tmp_path / "c"),
+            ]
+        )
+        == 2
+    )
+    assert "only for train composed" in capsys.readouterr().err
+    # different model parameters
+    with pytest.raises(UserError, match="model parameters differ"):
+        cfg = runs.TrainConfig(behaviour="composed")
+        runs.SimpleGenomes.from_runs(
+            simple_runs, cfg.model.__class__(scale=2.0 * cfg.model.scale)
+        )
+    # a tampered simple.npz is refused on resume
+    ok = [f"--{k}={v}" for k, v in simple_runs.items()]
+    out = tmp_path / "d"
+    assert main([*argv, *ok, "--out", str(out), "--quiet"]) == 0
+    capsys.readouterr()
+    s = runs.SimpleGenomes.load(out / runs.SIMPLE)
+    runs.SimpleGenomes(s.genomes + 1.0, s.sources, s.hashes).save(out / runs.SIMPLE)
+    before = (out / runs.CHECKPOINT).read_bytes()
+    assert (
+        main(["train", "composed", "--generations", "2", "--resume", "--out", str(out)])
+        == 2
+    )
+    assert "are not the ones" in capsys.readouterr().err
+    assert (out / runs.CHECKPOINT).read_bytes() == before
+
+
+# --- reproduce -------------------------------------------------------------------
+
+TINY = Budget("tiny", 4, {"kick": 1, "getup": 1, "return-legs": 1, "composed": 1})
+
+
+@pytest.fixture(scope="module")
+def reproduction(tmp_path_factory) -> Path:
+    out = tmp_path_factory.mktemp("repro") / "r"
+    reproduce(out, budget=TINY, progress=False, log=lambda s: None)
+    return out
+
+
+def test_reproduce_writes_every_stage_and_the_results_table(reproduction):
+    r = reproduction
+    assert (r / MARKER).is_file() and (r / RESULTS).is_file()
+    for stage in ("kick", "getup", "return-legs", "composed", "monolithic"):
+        assert (r / stage / runs.BEST).is_file(), stage
+        assert (r / stage / "eval" / "metrics.json").is_file(), stage
+    assert (r / "getup" / "sweep" / "sweep.csv").is_file()
+    text = (r / RESULTS).read_text()
+    for claim in ("about 2x", "all 5 training states", "65 of 180", "ready posture",
+                  "every composed jump", "does composition help"):  # fmt: skip
+        assert claim in text, claim
+    for fig in ("rules/trajectory.png", "composed/eval/composed.png"):
+        assert f"]({fig})" in text and (r / fig).is_file()
+    # the monolithic baseline got the four stages' generations
+    m = runs.read_metrics(r / "monolithic" / runs.METRICS)
+    assert len(m) == sum(TINY.generations.values())
+
+
+def test_reproduce_continues_and_refuses_other_directories(reproduction, tmp_path):
+    logs: list[str] = []
+    before = (reproduction / "kick" / runs.CHECKPOINT).read_bytes()
+    reproduce(reproduction, budget=TINY, progress=False, log=logs.append)
+    assert all("done" in s for s in logs if s.startswith("[") and "rules" not in s)
+    assert (reproduction / "kick" / runs.CHECKPOINT).read_bytes() == before
+    with pytest.raises(UserError, match="budget"):
+        reproduce(reproduction, budget="quick", progress=False, log=lambda s: None)
+    other = tmp_path / "other"
+    other.mkdir()
+    (other / "keep.txt").write_text("mine")
+    with pytest.raises(UserError, match="holds no reproduction"):
+        reproduce(other, budget=TINY, progress=False, log=lambda s: None)
+    assert (other / "keep.txt").read_text() == "mine"
+
+
+def test_replay_resimulates_every_stage(reproduction, tmp_path, capsys):
+    out = tmp_path / "replay"
+    assert main(["replay", str(reproduction), "--out", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert text.count("matches the record") == 5
+    assert (out / "composed" / "composed.png").is_file()
+    with pytest.raises(UserError, match="not a reproduction"):
+        replay(tmp_path, tmp_path / "x")
