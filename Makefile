@@ -18,11 +18,9 @@ $(VENV)/.installed: pyproject.toml | $(BIN)/python
 demo: $(VENV)/.installed
 	mkdir -p demo
 	$(BIN)/locustjump model --out demo/locust.xml --force
-	$(BIN)/locustjump rules --out demo/rules --force
-	# a second `make demo` resumes (a finished run: nothing to do) instead of clobbering
-	$(BIN)/locustjump train kick --population 50 --generations 30 --out demo/kick \
-		$$(test -f demo/kick/config.toml && echo --resume)
-	$(BIN)/locustjump evaluate demo/kick
+	# the whole paper on the quick budget (about 10 minutes on 2 cores); a second
+	# `make demo` continues an interrupted reproduction instead of clobbering it
+	$(BIN)/locustjump reproduce --budget quick --out demo/reproduce
 
 test: $(VENV)/.installed
 	$(BIN)/ruff check src tests benchmarks scripts
@@ -31,6 +29,7 @@ test: $(VENV)/.installed
 bench: $(VENV)/.installed
 	$(BIN)/python benchmarks/throughput.py
 	$(BIN)/python benchmarks/generation.py --behaviour kick
+	$(BIN)/python benchmarks/generation.py --behaviour getup --generations 4 --warmup 1
 
 clean:
 	rm -rf $(VENV) demo

@@ -243,6 +243,14 @@ def cmd_replay(args: argparse.Namespace) -> int:
     return 0
 
 
+def _add_threads(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--threads",
+        type=_int_at_least("--threads", 1),
+        help="simulation threads (default: all CPUs; the result does not depend on it)",
+    )
+
+
 def build_parser() -> argparse.ArgumentParser:
     from locustjump import __version__
     from locustjump.rules import DEFAULT_CHANGE_TIME
@@ -303,11 +311,7 @@ def build_parser() -> argparse.ArgumentParser:
         "--generations", type=_int_at_least("--generations", 1), help="default 1000"
     )
     p.add_argument("--seed", type=_int_at_least("--seed", 0), help="default 0")
-    p.add_argument(
-        "--threads",
-        type=_int_at_least("--threads", 1),
-        help="simulation threads (default: all CPUs; the result does not depend on it)",
-    )
+    _add_threads(p)
     p.add_argument(
         "--config",
         metavar="FILE",
@@ -374,11 +378,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="quick: about 10 min on 2 cores; paper: 50 x 1000 per stage",
     )
     p.add_argument("--seed", type=_int_at_least("--seed", 0), default=0)
-    p.add_argument(
-        "--threads",
-        type=_int_at_least("--threads", 1),
-        help="simulation threads (default: all CPUs; the result does not depend on it)",
-    )
+    _add_threads(p)
     p.add_argument("--out", required=True, metavar="DIR")
     p.add_argument("--quiet", action="store_true", help="no progress bars")
     p.set_defaults(func=cmd_reproduce)

@@ -23,6 +23,26 @@ def _finish(fig, ax, path: Path, title: str, *, legend: str) -> None:
     plt.close(fig)
 
 
+def _plot_trajectories(
+    ax, curves: list[tuple[str, np.ndarray, list[Jump]]], lw: float = 1.4
+) -> None:
+    """Height z vs distance x per curve, apexes marked."""
+    for label, qpos, jumps in curves:
+        (line,) = ax.plot(qpos[:, 0], qpos[:, 2], lw=lw, label=label)
+        if jumps:
+            ax.plot(
+                [j.apex_x for j in jumps],
+                [j.apex_height for j in jumps],
+                "v",
+                color=line.get_color(),
+                ms=6,
+                label=f"{label}: {len(jumps)} jumps (apex)",
+            )
+    ax.set_xlabel("distance x [m]")
+    ax.set_ylabel("height z [m]")
+    ax.set_ylim(bottom=0)
+
+
 def trajectory_figure(
     path: Path,
     curves: list[tuple[str, np.ndarray, list[Jump]]],
@@ -37,20 +57,7 @@ def trajectory_figure(
       title: figure title.
     """
     fig, ax = plt.subplots(figsize=(9, 3.6), constrained_layout=True)
-    for label, qpos, jumps in curves:
-        (line,) = ax.plot(qpos[:, 0], qpos[:, 2], lw=1.4, label=label)
-        if jumps:
-            ax.plot(
-                [j.apex_x for j in jumps],
-                [j.apex_height for j in jumps],
-                "v",
-                color=line.get_color(),
-                ms=6,
-                label=f"{label}: {len(jumps)} jumps (apex)",
-            )
-    ax.set_xlabel("distance x [m]")
-    ax.set_ylabel("height z [m]")
-    ax.set_ylim(bottom=0)
+    _plot_trajectories(ax, curves)
     _finish(fig, ax, path, title, legend="upper right")
 
 
@@ -104,20 +111,7 @@ def composed_figure(
         squeeze=False,
     )
     ax = axes[0, 0]
-    for label, qpos, jumps in curves:
-        (line,) = ax.plot(qpos[:, 0], qpos[:, 2], lw=1.2, label=label)
-        if jumps:
-            ax.plot(
-                [j.apex_x for j in jumps],
-                [j.apex_height for j in jumps],
-                "v",
-                color=line.get_color(),
-                ms=5,
-                label=f"{label}: {len(jumps)} jumps (apex)",
-            )
-    ax.set_xlabel("distance x [m]")
-    ax.set_ylabel("height z [m]")
-    ax.set_ylim(bottom=0)
+    _plot_trajectories(ax, curves, lw=1.2)
     ax.grid(alpha=0.3)
     ax.legend(loc="upper right", fontsize=8)
     if title:
