@@ -1,0 +1,87 @@
+"""Wall time of ``locustjump reproduce --budget paper``, estimated per stage.
+
+For each trained stage (kick, getup, return-legs, composed; the monolithic
+baseline is beyond the paper and reported separately) a real run at the
+paper's settings (population 50) is timed for a few generations after a
+warm-up (``generation.measure``: back-to-back generations of ``runs.train``,
+then an open-loop ``mujoco.rollout`` replay of the very same episodes), and the
+median generation is extrapolated to the paper's 1000 generations. The
+composed stage switches between the best genomes of a reproduction directory
+(``--simple-from DIR``) or, without one, random simple genomes (seeded).
+
+Prints per stage: the median generation, the estimate for 1000 generations,
+control steps/s and the ratio engine / physics-only. The last line reads
+``paper budget estimate: <minutes> min on <N> threads``.
+
+    python benchmarks/paper_budget.py [--threads 2] [--simple-from results/quick-seed0]
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+import mujoco
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).parent))
+from generation import measure  # noqa: E402
+from locustjump import runs  # noqa: E402
+from locustjump.behaviours import SIMPLE_BEHAVIOURS  # noqa: E402
+from locustjump.controller import MLP  # noqa: E402
+
+PAPER_GENERATIONS = 1000
+STAGES = ("kick", "getup", "return-legs", "composed")
+
+
+def simple_genomes(src: str | None) -> runs.SimpleGenomes:
+    if src is not None:
+        return runs.SimpleGenomes.from_runs(
+            {s: Path(src) / s for s in SIMPLE_BEHAVIOURS}, runs.TrainConfig().model
+        )
+    g = MLP().random_genomes(np.random.default_rng(0), len(SIMPLE_BEHAVIOURS))
+    return runs.SimpleGenomes(g, ("random",) * 3, ("",) * 3)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--generations", type=int, default=4, help="measured per stage")
+    ap.add_argument("--warmup", type=int, default=1)
+    ap.add_argument("--repeats", type=int, default=2, help="physics-only repeats")
+    ap.add_argument("--simple-from", metavar="DIR", help="a reproduction directory")
+    ap.add_argument("--stages", nargs="+", choices=STAGES, default=list(STAGES))
+    args = ap.parse_args()
+
+    print(
+        f"mujoco {mujoco.__version__}, {args.threads} threads, population 50, "
+        f"{args.generations} measured generations per stage after {args.warmup}"
+    )
+    print(
+        f"{'stage':<12} {'generation':>11} {'x1000':>10} {'steps/s':>9} "
+        f"{'engine/physics':>15}"
+    )
+    total = 0.0
+    simple = simple_genomes(args.simple_from) if "composed" in args.stages else None
+    for stage in args.stages:
+        t = measure(
+            stage,
+            warmup=args.warmup,
+            generations=args.generations,
+            threads=args.threads,
+            repeats=args.repeats,
+            simple=simple,
+        )
+        est = t.median_wall_s * PAPER_GENERATIONS
+        total += est
+        print(
+            f"{stage:<12} {t.median_wall_s:>10.3f}s {est / 60:>8.1f}min "
+            f"{t.steps_per_s:>9,.0f} {t.ratio:>15.3f}",
+            flush=True,
+        )
+    print(f"paper budget estimate: {total / 60:.1f} min on {args.threads} threads")
+
+
+if __name__ == "__main__":
+    main()
