@@ -225,3 +225,15 @@ def test_replay_resimulates_every_stage(reproduction, tmp_path, capsys):
     assert (out / "composed" / "composed.png").is_file()
     with pytest.raises(UserError, match="not a reproduction"):
         replay(tmp_path, tmp_path / "x")
+
+
+def test_reproduce_cli_bad_input(tmp_path, capsys):
+    with pytest.raises(SystemExit) as e:
+        main(["reproduce", "--budget", "huge", "--out", str(tmp_path / "r")])
+    assert e.value.code == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--budget" in err
+    (tmp_path / "f").write_text("x")
+    assert main(["reproduce", "--out", str(tmp_path / "f"), "--quiet"]) == 2
+    assert "not a directory" in capsys.readouterr().err
+    assert (tmp_path / "f").read_text() == "x"
