@@ -375,7 +375,11 @@ def build_parser() -> argparse.ArgumentParser:
         "--budget",
         choices=tuple(BUDGETS),
         default="quick",
-        help="quick: about 10 min on 2 cores; paper: 50 x 1000 per stage",
+        help=(
+            "quick: about 10 min on 2 cores; long: about 35 min; paper: "
+            "population 50 x 1000 generations per stage (about 3.5 h + the "
+            "monolithic baseline)"
+        ),
     )
     p.add_argument("--seed", type=_int_at_least("--seed", 0), default=0)
     _add_threads(p)

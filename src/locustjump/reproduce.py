@@ -68,6 +68,9 @@ BUDGETS: dict[str, Budget] = {
     "quick": Budget(
         "quick", 50, {"kick": 30, "getup": 10, "return-legs": 20, "composed": 30}
     ),
+    "long": Budget(
+        "long", 50, {"kick": 100, "getup": 20, "return-legs": 60, "composed": 120}
+    ),
     "paper": Budget(
         "paper",
         50,
