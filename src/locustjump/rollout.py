@@ -318,56 +318,86 @@ class _Recorder:
             a[:, t:] = a[:, t - 1 : t]
 
 
+class Episode:
+    """One episode on one ``MjData``: the engine's control step, unbatched.
+
+    The same operations, in the same order, as a row of the engine, so the
+    results are bit-identical to it. Used by :func:`reference_rollout`, the
+    Gymnasium environments (:mod:`locustjump.envs`) and the viewer::
+
+        ep = Episode(LocustParams())
+        obs = ep.reset(starts, 0)            # (1, 9)
+        obs = ep.step(deltas)                # deltas (1, 4), radians
+        ep.unstable                          # the simulation went unstable
+    """
+
+    def __init__(self, model_params: lm.LocustParams = lm.LocustParams()):
+        self.params = model_params
+        self.model = lm.load_model(model_params)
+        self.data = mujoco.MjData(self.model)
+        self.index = lm.ModelIndex.of(self.model)
+        self._observe = observer(self.index, model_params)
+        self.unstable = False
+
+    def reset(self, starts: StartStates, i: int = 0) -> np.ndarray:
+        """Start from state ``i`` of ``starts``; the (1, 9) inputs there."""
+        m, d = self.model, self.data
+        mujoco.mj_resetData(m, d)
+        d.qpos[:], d.qvel[:], d.ctrl[:] = starts.qpos[i], starts.qvel[i], starts.ctrl[i]
+        mujoco.mj_forward(m, d)
+        self.unstable = False
+        return self.observe()
+
+    def observe(self) -> np.ndarray:
+        """The (1, 9) paper inputs now."""
+        return self._observe(self.data.qpos[None], self.data.sensordata[None])
+
+    def step(self, deltas: np.ndarray) -> np.ndarray:
+        """One control step with target changes ``deltas`` (1, 4); the inputs
+        after it. Sets :attr:`unstable` (the state is then meaningless)."""
+        m, d = self.model, self.data
+        d.ctrl[:] = sensors.apply_deltas(d.ctrl[None], deltas, self.index.ranges)[0]
+        try:
+            mujoco.mj_step(m, d, nstep=self.params.substeps)
+        except mujoco.FatalError:
+            self.unstable = True
+        if (
+            self.unstable
+            or any(
+                d.warning[w].number > 0 for w in range(_UNSTABLE.start, _UNSTABLE.stop)
+            )
+            or not np.isfinite(d.qpos).all()
+        ):
+            self.unstable = True
+        return self.observe()
+
+
 def reference_rollout(job: RolloutJob) -> RolloutResult:
     """The plain, obviously-correct loop: one ``MjData`` per episode.
 
     Slow; kept to test the engine against (same results, bit for bit).
     """
-    m = lm.load_model(job.model_params)
-    p = job.model_params
-    idx = lm.ModelIndex.of(m)
-    observe_batch = observer(idx, p)
+    ep = Episode(job.model_params)
+    ctl = job.controller
     parts = []
     for e in range(job.n_episodes):
-        d = mujoco.MjData(m)
-        d.qpos[:], d.qvel[:], d.ctrl[:] = (
-            job.starts.qpos[e],
-            job.starts.qvel[e],
-            job.starts.ctrl[e],
-        )
-        mujoco.mj_forward(m, d)
-        prepared = job.controller.prepare(job.params[e : e + 1])
-        memory = np.zeros((1, job.controller.memory_size))
-        rec = _Recorder(job.record, 1, job.n_steps, m.nq, job.controller.memory_size)
-
-        def observe(d: mujoco.MjData = d) -> np.ndarray:
-            return observe_batch(d.qpos[None], d.sensordata[None])
-
-        obs = observe()
+        obs = ep.reset(job.starts, e)
+        d = ep.data
+        prepared = ctl.prepare(job.params[e : e + 1])
+        memory = np.zeros((1, ctl.memory_size))
+        rec = _Recorder(job.record, 1, job.n_steps, ep.model.nq, ctl.memory_size)
         rec.write(0, d.qpos[None], obs, d.ctrl[None], memory)
-        unstable, steps = False, job.n_steps
+        steps = job.n_steps
         for t in range(job.n_steps):
-            deltas, memory = job.controller.act(prepared, memory, obs, d.ctrl[None], t)
-            d.ctrl[:] = sensors.apply_deltas(d.ctrl[None], deltas, idx.ranges)[0]
-            try:
-                mujoco.mj_step(m, d, nstep=p.substeps)
-            except mujoco.FatalError:
-                unstable = True
-            if (
-                unstable
-                or any(
-                    d.warning[w].number > 0
-                    for w in range(_UNSTABLE.start, _UNSTABLE.stop)
-                )
-                or not np.isfinite(d.qpos).all()
-            ):
-                unstable, steps = True, t + 1
+            deltas, memory = ctl.act(prepared, memory, obs, d.ctrl[None], t)
+            obs = ep.step(deltas)
+            if ep.unstable:
+                steps = t + 1
                 rec.fill_from(t + 1)
                 break
-            obs = observe()
             rec.write(t + 1, d.qpos[None], obs, d.ctrl[None], memory)
         parts.append(
-            RolloutResult(rec.arrays, np.array([unstable]), np.array([steps]), steps)
+            RolloutResult(rec.arrays, np.array([ep.unstable]), np.array([steps]), steps)
         )
     return RolloutResult.concat(parts)
 
