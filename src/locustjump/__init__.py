@@ -5,6 +5,16 @@ Behavior on the Artificial Creature under Virtual Physical Environment*, with
 MuJoCo and a real-coded genetic algorithm.
 """
 
+import os as _os
+import sys as _sys
+
+# Offscreen rendering on a headless Linux machine: EGL unless the user chose a
+# back end (MuJoCo reads MUJOCO_GL once, when it first creates a GL context).
+if _sys.platform.startswith("linux") and not (
+    _os.environ.get("DISPLAY") or _os.environ.get("WAYLAND_DISPLAY")
+):
+    _os.environ.setdefault("MUJOCO_GL", "egl")
+
 from locustjump.behaviours import BEHAVIOURS, Behaviour, get_behaviour
 from locustjump.controller import MLP, Controller
 from locustjump.model import CONTROL_DT, LocustParams, load_model, to_mjcf

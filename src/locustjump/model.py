@@ -233,14 +233,17 @@ def to_mjcf(p: LocustParams = LocustParams(), *, keyframe: bool = True) -> str:
   <size memory="1M"/>
   <visual>
     <global offwidth="1280" offheight="720"/>
+    <quality shadowsize="2048"/>
     <headlight ambient="0.4 0.4 0.4" diffuse="0.6 0.6 0.6"/>
   </visual>
   <asset>
+    <texture name="sky" type="skybox" builtin="gradient" width="256" height="256"
+             rgb1="0.55 0.70 0.88" rgb2="0.95 0.96 0.98"/>
     <texture name="grid" type="2d" builtin="checker" width="512" height="512"
              rgb1="0.82 0.82 0.78" rgb2="0.62 0.64 0.60" mark="edge"
              markrgb="0.3 0.3 0.3"/>
     <material name="grid" texture="grid" texrepeat="1 1" texuniform="true"
-              reflectance="0.05"/>
+              reflectance="0"/>
     <material name="cuticle" rgba="0.55 0.62 0.25 1"/>
     <material name="leg" rgba="0.45 0.50 0.20 1"/>
   </asset>
@@ -268,7 +271,7 @@ def to_mjcf(p: LocustParams = LocustParams(), *, keyframe: bool = True) -> str:
             xyaxes="1 0 0 0 0.2 1"/>
     <body name="body" pos="0 0 {h0:.9g}">
       <freejoint name="root"/>
-      <camera name="track" mode="trackcom" pos="0 {-5 * bl:.9g} {1.0 * bl:.9g}"
+      <camera name="track" mode="trackcom" pos="0 {-3 * bl:.9g} {0.6 * bl:.9g}"
               xyaxes="1 0 0 0 0.2 1"/>
       <geom name="body" type="capsule" fromto="{-p.body_half_length * s:.9g} 0 0
             {p.body_half_length * s:.9g} 0 0" size="{p.body_radius * s:.9g}"/>
