@@ -1,0 +1,86 @@
+"""Gymnasium environments: the API checker, and an evolved genome gets the
+engine's fitness through them."""
+
+import numpy as np
+import pytest
+
+gym = pytest.importorskip("gymnasium", reason="extra locustjump[gym] not installed")
+
+from gymnasium.utils.env_checker import check_env  # noqa: E402
+
+from locustjump import runs  # noqa: E402
+from locustjump.controller import MLP  # noqa: E402
+from locustjump.envs import TASKS, LocustEnv  # noqa: E402
+
+
+@pytest.mark.parametrize("env_id", list(TASKS))
+def test_check_env(env_id):
+    env = gym.make(env_id, render_mode="rgb_array", width=64, height=48).unwrapped
+    check_env(env, skip_render_check=False)
+    frame = env.render()
+    assert frame.shape == (48, 64, 3) and frame.dtype == np.uint8
+    env.close()
+
+
+def test_registered_ids_and_time_limit():
+    import locustjump.envs  # noqa: F401
+
+    env = gym.make("LocustKick-v0")
+    assert env.spec.max_episode_steps == 300
+    env.reset(seed=0)
+    for t in range(300):
+        _, _, terminated, truncated, _ = env.step(np.zeros(4))
+        assert not terminated
+        assert truncated == (t == 299)
+    env.close()
+    for env_id in TASKS:
+        assert gym.spec(env_id).max_episode_steps in (300, 1000, 3000)
+
+
+def test_reset_start_option():
+    env = LocustEnv("getup")
+    assert env.n_starts == 5
+    obs0, info = env.reset(options={"start": 0})
+    obs4, _ = env.reset(options={"start": 4})
+    assert info["start"] == 0 and not np.array_equal(obs0, obs4)
+    with pytest.raises(ValueError, match="start"):
+        env.reset(options={"start": 5})
+    with pytest.raises(ValueError, match="unknown task"):
+        LocustEnv("fly")
+
+
+def _env_fitness(task: str, genome: np.ndarray) -> float:
+    """Mean return over the task's start states of the genome's network, run
+    through the environment (the action is the network's tanh output)."""
+    net = MLP(output="linear")
+    w = net.prepare(genome[None])
+    env = LocustEnv(task)
+    returns = []
+    for i in range(env.n_starts):
+        obs, _ = env.reset(options={"start": i})
+        total, done = 0.0, False
+        while not done:
+            action = np.tanh(net.apply(w, obs[None]))[0]
+            obs, r, terminated, truncated, _ = env.step(action)
+            total += r
+            done = terminated or truncated
+        returns.append(total)
+    return float(np.mean(returns))
+
+
+@pytest.mark.parametrize(
+    ("stage", "task"),
+    [
+        ("kick", "kick"),
+        ("getup", "getup"),
+        ("return-legs", "return-legs"),
+        ("monolithic", "monolithic"),
+    ],
+)
+def test_evolved_genome_gets_engine_fitness(shipped, stage, task):
+    cfg, beh, best = runs.load_run(shipped / stage)
+    engine = float(
+        beh.fitness(beh.simulate(best.genome[None], cfg.model), cfg.model)[0]
+    )
+    assert engine == best.fitness  # the engine reproduces the recorded fitness
+    np.testing.assert_allclose(_env_fitness(task, best.genome), engine, rtol=1e-9)
