@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import json
 import sys
 from collections.abc import Sequence
 from pathlib import Path
@@ -82,11 +83,25 @@ def cmd_rules(args: argparse.Namespace) -> int:
         [("rule-based", run.qpos, run.jumps)],
         title=f"Rule-based successive jumping (change time {run.change_time:.3f} s)",
     )
+    io.atomic_write_text(
+        out / "summary.json",
+        json.dumps(
+            {
+                "change_time_s": run.change_time,
+                "steps": args.steps,
+                "jumps": len(run.jumps),
+                "apex_heights_m": [round(j.apex_height, 4) for j in run.jumps],
+                "unstable": run.unstable,
+            },
+            indent=2,
+        )
+        + "\n",
+    )
     apexes = ", ".join(f"{j.apex_height:.2f}" for j in run.jumps) or "none"
     print(f"{len(run.jumps)} jumps in {args.steps} steps; apex heights [m]: {apexes}")
     if run.unstable:
         print("warning: the simulation went unstable", file=sys.stderr)
-    print(f"wrote {out / 'trajectory.csv'} and {out / 'trajectory.png'}")
+    print(f"wrote {out}/trajectory.csv, trajectory.png and summary.json")
     return 0
 
 
@@ -154,8 +169,6 @@ def cmd_train(args: argparse.Namespace) -> int:
 
 
 def cmd_evaluate(args: argparse.Namespace) -> int:
-    import json
-
     from locustjump import runs
 
     ev = runs.evaluate_run(args.run)
@@ -240,6 +253,35 @@ def cmd_replay(args: argparse.Namespace) -> int:
             file=sys.stderr,
         )
         return 1
+    return 0
+
+
+def cmd_render(args: argparse.Namespace) -> int:
+    from locustjump.render import render_run
+
+    out = render_run(
+        args.dir,
+        args.out,
+        fps=args.fps,
+        camera=args.camera,
+        force=args.force,
+        progress=not args.quiet,
+    )
+    print(f"wrote {out}")
+    return 0
+
+
+def cmd_view(args: argparse.Namespace) -> int:
+    from locustjump.render import view
+
+    view(args.dir)
+    return 0
+
+
+def cmd_report(args: argparse.Namespace) -> int:
+    from locustjump.report import write_report
+
+    print(f"wrote {write_report(args.dir)}")
     return 0
 
 
@@ -400,6 +442,58 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", required=True, metavar="OUT", help="output directory")
     p.add_argument("--force", action="store_true", help="write into a non-empty OUT")
     p.set_defaults(func=cmd_replay)
+
+    from locustjump.render import CAMERAS
+
+    p = sub.add_parser(
+        "render",
+        help="render a run's best controller (or a rule-based run) to a video",
+        description=(
+            "Re-simulate the best controller of run DIR (or the rule-based run "
+            "of a `locustjump rules` directory) and render it offscreen to an "
+            "MP4 or GIF (needs the extra locustjump[video]). Episodes from "
+            "several start states play side by side; the composed behaviour "
+            "shows its active simple behaviour."
+        ),
+    )
+    p.add_argument("dir", metavar="DIR")
+    p.add_argument(
+        "--out", metavar="VIDEO", help="a .mp4 or .gif (default DIR/video.mp4)"
+    )
+    p.add_argument(
+        "--fps",
+        type=_positive_float("--fps"),
+        default=60.0,
+        help="frames per second of simulated time, at most 120 (default 60)",
+    )
+    p.add_argument("--camera", choices=CAMERAS, default="track")
+    p.add_argument("--force", action="store_true", help="overwrite --out")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(func=cmd_render)
+
+    p = sub.add_parser(
+        "view",
+        help="play a run's best controller live in MuJoCo's viewer",
+        description=(
+            "Open MuJoCo's interactive viewer and run the best controller of run "
+            "DIR (or a rule-based run) live, in real time, looping over its start "
+            "states. Needs a display."
+        ),
+    )
+    p.add_argument("dir", metavar="DIR")
+    p.set_defaults(func=cmd_view)
+
+    p = sub.add_parser(
+        "report",
+        help="write DIR/report.html, one self-contained page about a run",
+        description=(
+            "Write DIR/report.html for a training run or a reproduction: config, "
+            "fitness curves, metrics, figures and videos embedded (no network "
+            "needed); for a reproduction also the results table against the paper."
+        ),
+    )
+    p.add_argument("dir", metavar="DIR")
+    p.set_defaults(func=cmd_report)
     return ap
 
 
