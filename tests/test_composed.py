@@ -1,6 +1,7 @@
 """Behaviour Composed: the switcher, composed runs and their bad input, and the
 one-command reproduction (on a tiny budget) with replay."""
 
+import shutil
 from pathlib import Path
 
 import numpy as np
@@ -179,7 +180,7 @@ TINY = Budget("tiny", 4, {"kick": 1, "getup": 1, "return-legs": 1, "composed": 1
 @pytest.fixture(scope="module")
 def reproduction(tmp_path_factory) -> Path:
     out = tmp_path_factory.mktemp("repro") / "r"
-    reproduce(out, budget=TINY, progress=False, log=lambda s: None)
+    reproduce(out, budget=TINY, progress=False, log=lambda s: None, videos=False)
     return out
 
 
@@ -204,7 +205,7 @@ def test_reproduce_writes_every_stage_and_the_results_table(reproduction):
 def test_reproduce_continues_and_refuses_other_directories(reproduction, tmp_path):
     logs: list[str] = []
     before = (reproduction / "kick" / runs.CHECKPOINT).read_bytes()
-    reproduce(reproduction, budget=TINY, progress=False, log=logs.append)
+    reproduce(reproduction, budget=TINY, progress=False, log=logs.append, videos=False)
     assert all("done" in s for s in logs if s.startswith("[") and "rules" not in s)
     assert (reproduction / "kick" / runs.CHECKPOINT).read_bytes() == before
     with pytest.raises(UserError, match="budget"):
@@ -225,6 +226,20 @@ def test_replay_resimulates_every_stage(reproduction, tmp_path, capsys):
     assert (out / "composed" / "composed.png").is_file()
     with pytest.raises(UserError, match="not a reproduction"):
         replay(tmp_path, tmp_path / "x")
+
+
+def test_reproduce_renders_a_video_per_stage(reproduction, tmp_path):
+    pytest.importorskip("imageio", reason="extra locustjump[video] not installed")
+    from locustjump.reproduce import STAGES, render_videos
+
+    logs: list[str] = []
+    d = shutil.copytree(reproduction, tmp_path / "r")
+    made = render_videos(d, fps=2, log=logs.append)
+    if any(s.startswith("videos skipped") for s in logs):
+        pytest.skip(logs[-1])
+    assert [p.parent.name for p in made] == list(STAGES)
+    assert all(p.stat().st_size > 1000 for p in made)
+    assert render_videos(d, fps=2, log=logs.append) == []  # kept, not re-made
 
 
 def test_reproduce_cli_bad_input(tmp_path, capsys):

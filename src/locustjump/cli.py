@@ -224,6 +224,7 @@ def cmd_reproduce(args: argparse.Namespace) -> int:
         backend=ThreadBackend(args.threads),
         progress=not args.quiet,
         command=command,
+        videos=not args.no_videos,
     )
     print(path.read_text().split("## Beyond")[0].rstrip())
     return 0
@@ -427,6 +428,11 @@ def build_parser() -> argparse.ArgumentParser:
     _add_threads(p)
     p.add_argument("--out", required=True, metavar="DIR")
     p.add_argument("--quiet", action="store_true", help="no progress bars")
+    p.add_argument(
+        "--no-videos",
+        action="store_true",
+        help="skip the per-stage videos (made when offscreen rendering works)",
+    )
     p.set_defaults(func=cmd_reproduce)
 
     p = sub.add_parser(

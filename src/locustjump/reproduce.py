@@ -37,6 +37,8 @@ from locustjump.rollout import Backend, get_backend
 MARKER = "reproduce.toml"
 RESULTS = "results.md"
 #: The stages, in order; each is a subdirectory.
+#: frames per second of the per-stage videos (half the 120 Hz control rate)
+VIDEO_FPS = 30.0
 STAGES = ("rules", "kick", "getup", "return-legs", "composed", "monolithic")
 TRAINED = STAGES[1:]
 #: The paper's numbers (SPEC): kick ~2x the rule-based jump; 5 of 5 training
@@ -171,9 +173,11 @@ def reproduce(
     progress: bool = True,
     log: Callable[[str], None] = print,
     command: str = "",
+    videos: bool = True,
 ) -> Path:
     """Run (or continue) every stage of the paper into ``out``; write
-    ``results.md`` and return its path."""
+    ``results.md``, a video per stage (``videos``, when rendering is
+    available here) and ``report.html``; return the path of ``results.md``."""
     if isinstance(budget, Budget):
         b = budget
     elif budget in BUDGETS:
@@ -234,10 +238,36 @@ def reproduce(
             },
         )
         log(f"[{stage}] best fitness {ev.fitness:.6g}")
+    if videos:
+        render_videos(out, log=log)
     path = out / RESULTS
     io.atomic_write_text(path, results_markdown(out))
     log(f"wrote {path}")
+    from locustjump.report import write_report
+
+    log(f"wrote {write_report(out)}")
     return path
+
+
+def render_videos(
+    out: Path, *, fps: float = VIDEO_FPS, log: Callable[[str], None] = print
+) -> list[Path]:
+    """``<stage>/video.mp4`` for every stage of reproduction ``out`` that has
+    none yet; skipped, with the reason logged, where rendering is unavailable."""
+    from locustjump.render import VIDEO_NAME, RenderUnavailable, render_run
+
+    made = []
+    for stage in STAGES:
+        d = Path(out) / stage
+        if not d.is_dir() or (d / VIDEO_NAME).is_file():
+            continue
+        try:
+            made.append(render_run(d, fps=fps))
+        except RenderUnavailable as e:
+            log(f"videos skipped: {e}")
+            break
+        log(f"[{stage}] wrote {made[-1]}")
+    return made
 
 
 def _generations_done(d: Path) -> int:
@@ -417,6 +447,17 @@ def results_markdown(out: Path) -> str:
     ]
     for s in TRAINED:
         lines += [f"Fitness per generation, {s}:", "", f"![{s}]({s}/fitness.png)", ""]
+    vids = [f"`{s}/video.mp4`" for s in STAGES if (out / s / "video.mp4").is_file()]
+    if vids:
+        lines += [
+            "## Videos",
+            "",
+            f"Each stage's best controller ({VIDEO_FPS:g} fps, tracking camera; "
+            "`locustjump render DIR` makes more, `report.html` plays them): "
+            + ", ".join(vids)
+            + ".",
+            "",
+        ]
     return "\n".join(lines)
 
 
