@@ -453,7 +453,7 @@ def results_markdown(out: Path) -> str:
             "## Videos",
             "",
             f"Each stage's best controller ({VIDEO_FPS:g} fps, tracking camera; "
-            "`locustjump render DIR` makes more, `report.html` plays them): "
+            "`locustjump render` makes more, `locustjump report` embeds them): "
             + ", ".join(vids)
             + ".",
             "",
