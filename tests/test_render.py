@@ -127,3 +127,21 @@ def test_reproduction_stage_copy_renders(can_render, shipped, tmp_path):
     d = shutil.copytree(shipped / "kick", tmp_path / "kick")
     out = render.render_run(d, fps=10)
     assert out == d / "video.mp4" and len(_frames(out)) == 26
+
+
+def test_view_plays_under_a_virtual_display(rules_dir):
+    """The viewer opens and plays the controller (Debian package xvfb)."""
+    import subprocess
+    import sys
+
+    xvfb = shutil.which("xvfb-run")
+    if xvfb is None:
+        pytest.skip("xvfb-run not installed (Debian package xvfb)")
+    code = f"from locustjump.render import view; view({str(rules_dir)!r}, duration=3)"
+    r = subprocess.run(
+        [xvfb, "-a", "-s", "-screen 0 800x600x24", sys.executable, "-c", code],
+        capture_output=True, text=True, timeout=120,
+    )  # fmt: skip
+    if "cannot open the MuJoCo viewer" in r.stderr:
+        pytest.skip(f"no OpenGL under Xvfb here: {r.stderr.strip()[-200:]}")
+    assert r.returncode == 0, r.stderr[-2000:]

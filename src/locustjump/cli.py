@@ -275,7 +275,7 @@ def cmd_render(args: argparse.Namespace) -> int:
 def cmd_view(args: argparse.Namespace) -> int:
     from locustjump.render import view
 
-    view(args.dir)
+    view(args.dir, duration=args.duration)
     return 0
 
 
@@ -487,6 +487,12 @@ def build_parser() -> argparse.ArgumentParser:
         ),
     )
     p.add_argument("dir", metavar="DIR")
+    p.add_argument(
+        "--duration",
+        type=_positive_float("--duration"),
+        metavar="SECONDS",
+        help="close after this many seconds (default: when the window is closed)",
+    )
     p.set_defaults(func=cmd_view)
 
     p = sub.add_parser(

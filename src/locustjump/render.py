@@ -16,6 +16,7 @@ from __future__ import annotations
 import json
 import os
 import sys
+import threading
 import time
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
@@ -326,10 +327,11 @@ def render_run(
         )  # fmt: skip
 
 
-def view(path: str | os.PathLike, *, loop: bool = True) -> None:
+def view(path: str | os.PathLike, *, duration: float | None = None) -> None:
     """Play what ``path`` holds live in MuJoCo's interactive viewer: the
-    controller acts every 1/120 s of simulated time, in real time (perturb
-    the creature with the mouse and watch the controller respond)."""
+    controller acts every 1/120 s of simulated time, in real time, looping over
+    the start states until the window is closed (or ``duration`` seconds have
+    passed). Drag the body with the mouse to perturb it."""
     if sys.platform.startswith("linux") and not (
         os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")
     ):
@@ -341,23 +343,41 @@ def view(path: str | os.PathLike, *, loop: bool = True) -> None:
     import mujoco.viewer
 
     ep = Episode(src.model_params)
-    ctl = src.controller
-    prepared = ctl.prepare(src.params)
     ep.reset(src.starts, 0)
+    before = set(threading.enumerate())
     try:
         handle = mujoco.viewer.launch_passive(ep.model, ep.data)
     except Exception as e:
         raise UserError(f"cannot open the MuJoCo viewer: {e}") from None
+    end = None if duration is None else time.perf_counter() + duration
+    try:
+        _play(handle, ep, src, end)
+    finally:
+        handle.close()
+        # let the viewer's thread tear its window down before the interpreter
+        # does (GLFW's atexit terminate racing it crashes or hangs)
+        for th in set(threading.enumerate()) - before:
+            th.join(timeout=10)
+
+
+def _play(handle, ep: Episode, src: Source, end: float | None) -> None:
+    ctl = src.controller
+    prepared = ctl.prepare(src.params)
     with handle as v:
+        with v.lock():  # follow the body, from the side, 3 body lengths away
+            v.cam.type = mujoco.mjtCamera.mjCAMERA_TRACKING
+            v.cam.trackbodyid = ep.model.body("body").id
+            v.cam.distance = 3 * src.model_params.body_length
+            v.cam.azimuth, v.cam.elevation = 90.0, -10.0
         while v.is_running():
             for e in range(len(src.starts)):
                 with v.lock():
                     obs = ep.reset(src.starts, e)
                 memory = np.zeros((1, ctl.memory_size))
                 for t in range(src.n_steps):
-                    if not v.is_running():
-                        return
                     start = time.perf_counter()
+                    if not v.is_running() or (end is not None and start > end):
+                        return
                     deltas, memory = ctl.act(
                         prepared, memory, obs, ep.data.ctrl[None], t
                     )
@@ -367,5 +387,3 @@ def view(path: str | os.PathLike, *, loop: bool = True) -> None:
                     if ep.unstable:
                         break
                     time.sleep(max(0.0, CONTROL_DT - (time.perf_counter() - start)))
-            if not loop:
-                return
