@@ -217,6 +217,19 @@ def to_mjcf(p: LocustParams = LocustParams(), *, keyframe: bool = True) -> str:
         + hind_leg(side, sign)
         for side, sign in (("l", 1.0), ("r", -1.0))
     )
+    # Only the creature against the floor collides, as explicit pairs (no
+    # broad phase: mj_step 6.1 -> 5.4 us, bit-identical trajectories), in
+    # geom-id order: the body's own geoms, then the hind legs'.
+    creature = ["body", "head"]
+    creature += [f"{nm}_{side}" for side in names.SIDES for nm in ("fore", "mid")]
+    creature += [
+        f"{part}_{side}"
+        for side in names.SIDES
+        for part in ("femur", "tibia", "tarsus")
+    ]
+    pairs = "".join(
+        f'\n    <pair geom1="{names.FLOOR}" geom2="{g}"/>' for g in creature
+    )
     servos = "".join(
         f'<position name="servo_{j}" joint="{j}" class="servo"/>'
         for j in names.ACTUATED_JOINTS
@@ -248,9 +261,11 @@ def to_mjcf(p: LocustParams = LocustParams(), *, keyframe: bool = True) -> str:
     <material name="leg" rgba="0.45 0.50 0.20 1"/>
   </asset>
   <default>
-    <geom density="{p.density:.9g}" contype="2" conaffinity="0" condim="3"
+    <geom density="{p.density:.9g}" contype="0" conaffinity="0" condim="3"
           friction="{p.friction:.9g} 0.005 0.0001"
           solref="{_fmt(*p.solref)}" solimp="{_fmt(*p.solimp)}" material="cuticle"/>
+    <pair condim="3" friction="{_fmt(p.friction, p.friction, 0.005, 0.0001, 0.0001)}"
+          solref="{_fmt(*p.solref)}" solimp="{_fmt(*p.solimp)}"/>
     <default class="strut"><geom type="capsule" material="leg"/></default>
     <default class="leg"><geom type="capsule" material="leg"/></default>
     <default class="hind">
@@ -265,8 +280,7 @@ def to_mjcf(p: LocustParams = LocustParams(), *, keyframe: bool = True) -> str:
   </default>
   <worldbody>
     <light name="sun" pos="0 0 {10 * bl:.9g}" dir="0 0 -1" directional="true"/>
-    <geom name="floor" type="plane" size="0 0 {0.05 * bl:.9g}" material="grid"
-          contype="0" conaffinity="2"/>
+    <geom name="floor" type="plane" size="0 0 {0.05 * bl:.9g}" material="grid"/>
     <camera name="side" pos="{4 * bl:.9g} {-9 * bl:.9g} {2 * bl:.9g}"
             xyaxes="1 0 0 0 0.2 1"/>
     <body name="body" pos="0 0 {h0:.9g}">
@@ -280,6 +294,7 @@ def to_mjcf(p: LocustParams = LocustParams(), *, keyframe: bool = True) -> str:
       {legs}
     </body>
   </worldbody>
+  <contact>{pairs}</contact>
   <actuator>{servos}</actuator>
   <sensor>{touch}</sensor>
 </mujoco>
