@@ -420,8 +420,8 @@ def build_parser() -> argparse.ArgumentParser:
         default="quick",
         help=(
             "quick: about 10 min on 2 cores; long: about 35 min; paper: "
-            "population 50 x 1000 generations per stage (about 3.4 h on 2 "
-            "cores, plus about 4.5 h for the monolithic baseline)"
+            "population 50 x 1000 generations per stage (about 3 h on 2 "
+            "cores, plus about 4 h for the monolithic baseline)"
         ),
     )
     p.add_argument("--seed", type=_int_at_least("--seed", 0), default=0)
