@@ -13,8 +13,22 @@ from locustjump.controller import MLP  # noqa: E402
 from locustjump.envs import TASKS, LocustEnv  # noqa: E402
 
 
+def _can_render() -> bool:
+    from locustjump import model as lm
+    from locustjump.render import RenderUnavailable, make_renderer
+
+    try:
+        make_renderer(lm.load_model(lm.LocustParams()), 32, 24).close()
+    except RenderUnavailable:
+        return False
+    return True
+
+
 @pytest.mark.parametrize("env_id", list(TASKS))
 def test_check_env(env_id):
+    if not _can_render():  # the API still gets checked, without frames
+        check_env(gym.make(env_id).unwrapped)
+        pytest.skip("no offscreen rendering here (Debian package libegl1)")
     env = gym.make(env_id, render_mode="rgb_array", width=64, height=48).unwrapped
     check_env(env, skip_render_check=False)
     frame = env.render()
