@@ -8,12 +8,19 @@ MuJoCo and a real-coded genetic algorithm.
 import os as _os
 import sys as _sys
 
-# Offscreen rendering on a headless Linux machine: EGL unless the user chose a
-# back end (MuJoCo reads MUJOCO_GL once, when it first creates a GL context).
-if _sys.platform.startswith("linux") and not (
-    _os.environ.get("DISPLAY") or _os.environ.get("WAYLAND_DISPLAY")
+# Offscreen rendering on a headless Linux machine: EGL, if its library is
+# installed and the user chose no back end. MuJoCo reads MUJOCO_GL when it is
+# first imported, and that import fails outright if the named back end's
+# library is missing, so only a loadable EGL is chosen.
+if (
+    _sys.platform.startswith("linux")
+    and "MUJOCO_GL" not in _os.environ
+    and not (_os.environ.get("DISPLAY") or _os.environ.get("WAYLAND_DISPLAY"))
 ):
-    _os.environ.setdefault("MUJOCO_GL", "egl")
+    import ctypes.util as _ctypes_util
+
+    if _ctypes_util.find_library("EGL"):
+        _os.environ["MUJOCO_GL"] = "egl"
 
 from locustjump.behaviours import BEHAVIOURS, Behaviour, get_behaviour
 from locustjump.controller import MLP, Controller
