@@ -91,9 +91,9 @@ class LocustParams:
     joint_armature: float = 1.0e-8  # (kg m^2) hind hinges
 
     # Simulation.
-    substeps: int = 6  # physics steps per control step
+    substeps: int = 3  # physics steps per control step
     integrator: str = "implicitfast"
-    solref: tuple[float, float] = (0.003, 1.0)  # (s, -) contact time constant, damping
+    solref: tuple[float, float] = (0.0056, 1.0)  # (s, -) contact time constant, damping
     solimp: tuple[float, float, float] = (0.9, 0.95, 0.001)  # (-, -, m) impedance
     friction: float = 1.0  # (-) sliding friction coefficient
     iterations: int = 50

@@ -5,7 +5,8 @@ One control step for every live episode at once::
     obs    = paper_inputs(qpos, sensordata)             # (n, 9), batched NumPy
     deltas = controller.act(prepared, memory, obs, t)   # (n, 4), one batched call
     ctrl   = apply_deltas(ctrl, deltas, ranges)         # servo targets, in place
-    batch.step(nstep=substeps)                          # mujoco.batch, C threads
+    batch.rollout(nstep=substeps, record=sensordata)   # mujoco.batch, C threads
+    touch  = max over the substeps of sensordata        # I5 sees any contact
 
 ``prepared = controller.prepare(params)`` is computed once per rollout, and the
 per-step work is a fixed number of whole-batch NumPy calls on arrays bound to
@@ -15,8 +16,8 @@ Episodes are independent rows, so a job can be split anywhere (threads,
 processes, hosts) and give bit-identical results; :func:`reference_rollout` is
 the plain one-``MjData``-per-episode loop the engine is tested against.
 
-An episode whose simulation goes unstable (non-finite state, a MuJoCo
-bad-qpos/qvel/qacc warning or error) stops stepping: it is flagged in
+An episode whose simulation goes unstable (non-finite state, a MuJoCo warning
+such as bad qpos/qvel/qacc, or a MuJoCo error) stops stepping: it is flagged in
 ``RolloutResult.unstable`` and its remaining records repeat its last ones; the
 behaviours give it the worst fitness.
 """
@@ -39,12 +40,10 @@ from locustjump.controller import Controller
 
 #: What can be recorded per control step, and its per-step shape.
 RECORDABLE = ("qpos", "obs", "ctrl", "memory")
-#: MuJoCo warnings that mean the simulation went unstable (it resets the data):
-#: bad qpos, qvel, qacc, consecutive in ``mjtWarning``.
-_UNSTABLE = slice(
-    int(mujoco.mjtWarning.mjWARN_BADQPOS), int(mujoco.mjtWarning.mjWARN_BADQACC) + 1
-)
-assert _UNSTABLE.stop - _UNSTABLE.start == 3
+#: MuJoCo warnings that end an episode: all of them. Bad qpos/qvel/qacc mean
+#: the simulation went unstable (MuJoCo resets its data); ``Batch.rollout``
+#: stops stepping a simulation whose warning counters rise, whichever warning.
+_UNSTABLE = slice(0, int(mujoco.mjtWarning.mjNWARNING))
 
 
 @dataclass(frozen=True)
@@ -248,6 +247,11 @@ def _run_batch(batch: Batch, job: RolloutJob) -> RolloutResult:
     obs = observe(qpos, sens)
     rec.write(0, qpos, obs, ctrl, memory)
     warn_bad = warn[:, _UNSTABLE, 1]  # a view: warning counts of every sim
+    # sensordata after every substep (MuJoCo computes it at the substep's
+    # start), reduced to its maximum over the control step: I5 sees a contact
+    # at any substep, not only at the last one
+    sub = {"sensordata": np.empty((n, p.substeps, m.nsensordata))}
+    sens = np.array(sens)
     unstable = np.zeros(n, bool)
     steps = np.full(n, T)
     alive: np.ndarray | None = None  # None: all alive (no index array per step)
@@ -259,7 +263,12 @@ def _run_batch(batch: Batch, job: RolloutJob) -> RolloutResult:
         else:
             ctrl[alive] = sensors.apply_deltas(ctrl, deltas, idx.ranges)[alive]
         try:
-            batch.step(alive, nstep=p.substeps)
+            if alive is None:
+                batch.rollout(p.substeps, record=("sensordata",), out=sub)
+                sub["sensordata"].max(axis=1, out=sens)
+            else:
+                r = batch.rollout(p.substeps, record=("sensordata",), ids=alive)
+                sens[alive] = r["sensordata"].max(axis=1)
         except SimulationError as e:  # MuJoCo errors: those sims kept their state
             warn_ids = e.ids
         else:
@@ -337,6 +346,7 @@ class Episode:
         self.data = mujoco.MjData(self.model)
         self.index = lm.ModelIndex.of(self.model)
         self._observe = observer(self.index, model_params)
+        self._touch = self.data.sensordata.copy()  # sensordata, max over substeps
         self.unstable = False
 
     def reset(self, starts: StartStates, i: int = 0) -> np.ndarray:
@@ -345,20 +355,25 @@ class Episode:
         mujoco.mj_resetData(m, d)
         d.qpos[:], d.qvel[:], d.ctrl[:] = starts.qpos[i], starts.qvel[i], starts.ctrl[i]
         mujoco.mj_forward(m, d)
+        self._touch[:] = d.sensordata
         self.unstable = False
         return self.observe()
 
     def observe(self) -> np.ndarray:
-        """The (1, 9) paper inputs now."""
-        return self._observe(self.data.qpos[None], self.data.sensordata[None])
+        """The (1, 9) paper inputs now (touch: over the last control step)."""
+        return self._observe(self.data.qpos[None], self._touch[None])
 
     def step(self, deltas: np.ndarray) -> np.ndarray:
         """One control step with target changes ``deltas`` (1, 4); the inputs
         after it. Sets :attr:`unstable` (the state is then meaningless)."""
         m, d = self.model, self.data
         d.ctrl[:] = sensors.apply_deltas(d.ctrl[None], deltas, self.index.ranges)[0]
+        touch = self._touch
+        touch[:] = -np.inf
         try:
-            mujoco.mj_step(m, d, nstep=self.params.substeps)
+            for _ in range(self.params.substeps):
+                mujoco.mj_step(m, d)
+                np.maximum(touch, d.sensordata, out=touch)
         except mujoco.FatalError:
             self.unstable = True
         if (

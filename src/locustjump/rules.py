@@ -26,7 +26,7 @@ from locustjump.model import CONTROL_DT
 from locustjump.sensors import MAX_DELTA
 
 #: (Seconds) default change time, from scripts/tune_change_time.py
-DEFAULT_CHANGE_TIME = 0.125
+DEFAULT_CHANGE_TIME = 0.5
 
 
 @dataclass(frozen=True)

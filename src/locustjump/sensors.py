@@ -20,9 +20,13 @@ Our readings (the paper's figures are lost):
 
 * I1–I4: joint zeros are chosen in :mod:`locustjump.model` so that every range
   lies inside (0, 2 pi): the raw hinge angle is the input, it never wraps.
-* I5: "on" when either hind tarsus's touch sensor reads a positive normal force.
-  The touch value comes from the forward pass of the last physics substep (as
-  ``mj_step`` leaves ``sensordata``), i.e. at most one substep old.
+* I5: "on" when either hind tarsus's touch sensor read a positive normal force
+  at any physics substep of the last control step (the rollout engine passes
+  the per-substep maximum of ``sensordata``; at the start state, the forward
+  pass there). Sampling only the last substep made the rule-based kick depend
+  on contact chatter: a tarsus that bounced off the floor for one substep at
+  the sampling instant aborted the kick, so results changed with the substep
+  count (``docs/physics.md``).
 * I6: H is the height of the body centre above the floor **in body lengths**
   (nose to tail), so I6 is scale-free: ~0.86 standing, ~0.3 at a 2-body-length
   apex. In metres it would be almost constant at real scale.
