@@ -6,7 +6,7 @@
 Needs ``py-spy`` (``pip install py-spy``; it is not a dependency of the
 package). Samples the main thread at ``--rate`` Hz with native frames; each
 sample is put in the first category (below) whose function is on its stack,
-innermost first. ``Batch.step`` is the main thread waiting for MuJoCo's C
+innermost first. ``Batch.rollout`` is the main thread waiting for MuJoCo's C
 threads to step the physics: everything else is Python and NumPy work of the
 engine, the GA and the run directory. Prints a Markdown table.
 """
@@ -26,8 +26,8 @@ from pathlib import Path
 # from the innermost frame outwards.
 CATEGORIES = [
     (
-        "physics (Batch.step, C threads)",
-        r"^Batch\.step |\((mujoco/)?_batch\.|libmujoco",
+        "physics (Batch.rollout, C threads)",
+        r"^Batch\.(step|rollout) |\((mujoco/)?_batch\.|libmujoco",
     ),
     ("network (MLP / switcher)", r"^(MLP\.|SwitchingController\.)"),
     ("sensors (paper_inputs)", r"^(paper_inputs|up_axis_in_body) "),
