@@ -11,6 +11,7 @@ targets, and times an open-loop ``mujoco.rollout`` replay of the same episodes
 issue target: ratio <= 1.15.
 
     python benchmarks/generation.py [--behaviour kick] [--threads 2]
+    python benchmarks/generation.py --behaviour composed --simple-from DIR
 """
 
 from __future__ import annotations
@@ -28,11 +29,27 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).parent))
 from _physics import physics_only_seconds  # noqa: E402
 from locustjump import runs  # noqa: E402
-from locustjump.behaviours import BEHAVIOURS, get_behaviour  # noqa: E402
+from locustjump.behaviours import (  # noqa: E402
+    BEHAVIOURS,
+    SIMPLE_BEHAVIOURS,
+    get_behaviour,
+)
+from locustjump.controller import MLP  # noqa: E402
 from locustjump.rcga import RCGA, RCGAParams  # noqa: E402
 from locustjump.rollout import ThreadBackend  # noqa: E402
 
 TARGET = 1.15
+
+
+def simple_genomes(src: str | None) -> runs.SimpleGenomes:
+    """The composed stage's frozen networks: the best genomes of the simple
+    stages of reproduction directory ``src``, or random ones (seeded)."""
+    if src is not None:
+        return runs.SimpleGenomes.from_runs(
+            {s: Path(src) / s for s in SIMPLE_BEHAVIOURS}, runs.TrainConfig().model
+        )
+    g = MLP().random_genomes(np.random.default_rng(0), len(SIMPLE_BEHAVIOURS))
+    return runs.SimpleGenomes(g, ("random",) * 3, ("",) * 3)
 
 
 @dataclass(frozen=True)
@@ -115,17 +132,18 @@ def measure(
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    # composed needs simple genomes: benchmarks/paper_budget.py measures it
-    ap.add_argument(
-        "--behaviour",
-        choices=[b for b in BEHAVIOURS if b != "composed"],
-        default="kick",
-    )
+    ap.add_argument("--behaviour", choices=list(BEHAVIOURS), default="kick")
     ap.add_argument("--population", type=int, default=50)
     ap.add_argument("--generations", type=int, default=10, help="measured")
     ap.add_argument("--warmup", type=int, default=3)
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--repeats", type=int, default=3, help="physics-only repeats")
+    ap.add_argument(
+        "--simple-from",
+        metavar="DIR",
+        help="composed: switch between the simple stages of this reproduction "
+        "directory (default: random simple networks)",
+    )
     args = ap.parse_args()
 
     t = measure(
@@ -135,6 +153,9 @@ def main() -> None:
         generations=args.generations,
         threads=args.threads,
         repeats=args.repeats,
+        simple=simple_genomes(args.simple_from)
+        if args.behaviour == "composed"
+        else None,
     )
     ratio = t.ratio
     print(

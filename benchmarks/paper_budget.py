@@ -23,25 +23,12 @@ import sys
 from pathlib import Path
 
 import mujoco
-import numpy as np
 
 sys.path.insert(0, str(Path(__file__).parent))
-from generation import measure  # noqa: E402
-from locustjump import runs  # noqa: E402
-from locustjump.behaviours import SIMPLE_BEHAVIOURS  # noqa: E402
-from locustjump.controller import MLP  # noqa: E402
+from generation import measure, simple_genomes  # noqa: E402
 
 PAPER_GENERATIONS = 1000
 STAGES = ("kick", "getup", "return-legs", "composed")
-
-
-def simple_genomes(src: str | None) -> runs.SimpleGenomes:
-    if src is not None:
-        return runs.SimpleGenomes.from_runs(
-            {s: Path(src) / s for s in SIMPLE_BEHAVIOURS}, runs.TrainConfig().model
-        )
-    g = MLP().random_genomes(np.random.default_rng(0), len(SIMPLE_BEHAVIOURS))
-    return runs.SimpleGenomes(g, ("random",) * 3, ("",) * 3)
 
 
 def main() -> None:
