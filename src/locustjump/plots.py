@@ -36,7 +36,7 @@ def _plot_trajectories(
                 "v",
                 color=line.get_color(),
                 ms=6,
-                label=f"{label}: {len(jumps)} jumps (apex)",
+                label=f"{label}: {len(jumps)} jump{'s' * (len(jumps) != 1)} (apex)",
             )
     ax.set_xlabel("distance x [m]")
     ax.set_ylabel("height z [m]")
