@@ -18,7 +18,7 @@ $(VENV)/.installed: pyproject.toml | $(BIN)/python
 demo: $(VENV)/.installed
 	mkdir -p demo
 	$(BIN)/locustjump model --out demo/locust.xml --force
-	# the whole paper on the quick budget (about 10 minutes on 2 cores); a second
+	# the whole paper on the quick budget (about 8 minutes on 2 cores); a second
 	# `make demo` continues an interrupted reproduction instead of clobbering it
 	$(BIN)/locustjump reproduce --budget quick --out demo/reproduce
 

@@ -419,9 +419,9 @@ def build_parser() -> argparse.ArgumentParser:
         choices=tuple(BUDGETS),
         default="quick",
         help=(
-            "quick: about 10 min on 2 cores; long: about 35 min; paper: "
-            "population 50 x 1000 generations per stage (about 3 h on 2 "
-            "cores, plus about 4 h for the monolithic baseline)"
+            "quick: about 8 min on 2 cores (5 of them training); long: about "
+            "30 min; paper: population 50 x 1000 generations per stage (about "
+            "2 h on 2 cores, plus about 2.5 h for the monolithic baseline)"
         ),
     )
     p.add_argument("--seed", type=_int_at_least("--seed", 0), default=0)
