@@ -218,6 +218,38 @@ def test_reproduce_continues_and_refuses_other_directories(reproduction, tmp_pat
     assert (other / "keep.txt").read_text() == "mine"
 
 
+def test_reproduce_without_monolithic_then_adds_it(tmp_path):
+    out = tmp_path / "r"
+    quiet = {"progress": False, "log": lambda s: None, "videos": False}
+    reproduce(out, budget=TINY, monolithic=False, **quiet)
+    assert not (out / "monolithic").exists()
+    text = (out / RESULTS).read_text()
+    assert "**Not finished:** stage monolithic not run yet" in text
+    assert "monolithic stages (not run yet: monolithic)" in text
+    assert "| monolithic |" not in text and "![monolithic]" not in text
+    assert "| composed | 4 | 1 |" in text  # its wall-time row
+    reproduce(out, budget=TINY, **quiet)  # the same command without the flag
+    text = (out / RESULTS).read_text()
+    assert "Not finished" not in text and "the monolithic one's" in text
+    assert "![monolithic](monolithic/eval/monolithic.png)" in text
+
+
+def test_results_table_of_an_unfinished_reproduction(reproduction, tmp_path):
+    from locustjump.reproduce import results_markdown
+
+    d = shutil.copytree(reproduction, tmp_path / "r")
+    for stage in ("return-legs", "composed", "monolithic"):
+        shutil.rmtree(d / stage)
+    text = results_markdown(d)
+    assert "stages return-legs, composed, monolithic not run yet" in text
+    rows = [ln for ln in text.splitlines() if ln.startswith("| ")]
+    legs = next(r for r in rows if "ready posture" in r)
+    kick = next(r for r in rows if "about 2x" in r)
+    assert legs.endswith("| not run yet | - |") and "not run yet" not in kick
+    assert "![kick](kick/eval/kick_vs_rules.png)" in text
+    assert "composed/eval/composed.png" not in text
+
+
 def test_replay_resimulates_every_stage(reproduction, tmp_path, capsys):
     out = tmp_path / "replay"
     assert main(["replay", str(reproduction), "--out", str(out)]) == 0

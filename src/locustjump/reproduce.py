@@ -174,10 +174,16 @@ def reproduce(
     log: Callable[[str], None] = print,
     command: str = "",
     videos: bool = True,
+    monolithic: bool = True,
 ) -> Path:
     """Run (or continue) every stage of the paper into ``out``; write
     ``results.md``, a video per stage (``videos``, when rendering is
-    available here) and ``report.html``; return the path of ``results.md``."""
+    available here) and ``report.html``; return the path of ``results.md``.
+
+    ``results.md`` is rewritten after every finished stage, so a long
+    reproduction shows its results so far. ``monolithic=False`` leaves out the
+    baseline beyond the paper (as long as the four paper stages together at the
+    paper's budget); a later call with it continues and adds it."""
     if isinstance(budget, Budget):
         b = budget
     elif budget in BUDGETS:
@@ -195,10 +201,11 @@ def reproduce(
     _write_marker(out, b, seed, command)
     backend = get_backend(backend)
 
+    path = out / RESULTS
     if not (out / "rules" / "summary.json").is_file():
         log("[rules] rule-based successive jumping, 3000 steps")
         run_rules_stage(out / "rules")
-    for stage in TRAINED:
+    for stage in TRAINED if monolithic else TRAINED[:-1]:
         d = out / stage
         gens = b.of(stage)
         cfg = runs.TrainConfig(
@@ -238,9 +245,9 @@ def reproduce(
             },
         )
         log(f"[{stage}] best fitness {ev.fitness:.6g}")
+        io.atomic_write_text(path, results_markdown(out))
     if videos:
         render_videos(out, log=log)
-    path = out / RESULTS
     io.atomic_write_text(path, results_markdown(out))
     log(f"wrote {path}")
     from locustjump.report import write_report
@@ -307,21 +314,61 @@ def results_markdown(out: Path) -> str:
 
     marker = _read_toml(out / MARKER)
     rules = _read_json(out / "rules" / "summary.json")
-    info = {s: _stage_info(out / s) for s in TRAINED}
-    k, g, r, c, mono = (info[s]["metrics"] for s in TRAINED)
+    info = {
+        s: _stage_info(out / s)
+        for s in TRAINED
+        if (out / s / "eval" / "metrics.json").is_file()
+    }
+    missing = [s for s in TRAINED if s not in info]
+    k, g, r, c, mono = (info[s]["metrics"] if s in info else None for s in TRAINED)
     rule_first = rules["first_apex_height_m"]
     rule_mean = float(np.mean(rules["apex_heights_m"])) if rules["jumps"] else None
 
-    kick_ratio = k.get("apex_height_ratio_to_rules")
-    got_up = sum(g["success"])
-    sweep = info["getup"]["extra"].get("sweep_got_up")
-    n_sweep = info["getup"]["extra"].get("sweep_states", 180)
-    legs_err = max(r["final_error_deg"].values())
-    c_ratios = c.get("apex_ratios_to_rules", [])
-    c_min = min(c_ratios) if c_ratios else None
-
     def fmt(x: float | None, spec: str = ".2f") -> str:
         return "n/a" if x is None else format(x, spec)
+
+    todo = "not run yet | -"
+    if k is None:
+        kick_row = todo
+    else:
+        kick_ratio = k.get("apex_height_ratio_to_rules")
+        kick_row = (
+            f"{fmt(kick_ratio)}x ({fmt(k['apex_height_m'])} m vs "
+            f"{fmt(rule_first)} m) | "
+            f"{_yes(kick_ratio is not None and kick_ratio >= KICK_RATIO_OK)} "
+            f"(>= {KICK_RATIO_OK}x)"
+        )
+    if g is None:
+        getup_row = sweep_row = todo
+    else:
+        got_up = sum(g["success"])
+        sweep = info["getup"]["extra"].get("sweep_got_up")
+        n_sweep = info["getup"]["extra"].get("sweep_states", 180)
+        getup_row = f"{got_up} of 5 | {_yes(got_up == 5)}"
+        sweep_row = (
+            f"{fmt(sweep, 'd')} of {n_sweep} | "
+            f"{_yes(sweep is not None and sweep >= PAPER_SWEEP)} (>= 65)"
+        )
+    if r is None:
+        legs_row = todo
+    else:
+        legs_err = max(r["final_error_deg"].values())
+        legs_row = (
+            f"largest final error {legs_err:.2f} deg | "
+            f"{_yes(legs_err <= LEGS_ERROR_OK_DEG)} (every joint within "
+            f"{LEGS_ERROR_OK_DEG:g} deg)"
+        )
+    if c is None:
+        composed_row = todo
+    else:
+        c_ratios = c.get("apex_ratios_to_rules", [])
+        c_min = min(c_ratios) if c_ratios else None
+        composed_row = (
+            f"{c['jumps']} jumps, smallest ratio {fmt(c_min)}x (rule-based mean "
+            f"apex {fmt(rule_mean)} m) | "
+            f"{_yes(c['jumps'] >= 2 and c_min is not None and c_min > 2.0)} "
+            "(>= 2 jumps, each > 2x)"
+        )
 
     lines = [
         f"# Reproduction of Umemura et al.: budget `{marker['budget']}`, "
@@ -334,6 +381,14 @@ def results_markdown(out: Path) -> str:
         "genomes and checks that their fitness is the recorded one.",
         "",
     ]
+    if missing:
+        lines += [
+            f"**Not finished:** stage{'s' * (len(missing) > 1)} "
+            f"{', '.join(missing)} not run yet (rerun the command above, without "
+            "`--no-monolithic`, to continue; the rows and sections that need "
+            "them say so).",
+            "",
+        ]
     if marker["budget"] != "paper":
         lines += [
             f"**This is not the paper's budget** (population 50, 1000 generations "
@@ -347,52 +402,54 @@ def results_markdown(out: Path) -> str:
         "| claim (paper) | paper | ours | reproduced? (our criterion) |",
         "| --- | --- | --- | --- |",
         f"| the evolved kick jumps about 2x as high as the rule-based first jump "
-        f"(Fig. 7) | ~{PAPER_KICK_RATIO:g}x | {fmt(kick_ratio)}x "
-        f"({fmt(k['apex_height_m'])} m vs {fmt(rule_first)} m) | "
-        f"{_yes(kick_ratio is not None and kick_ratio >= KICK_RATIO_OK)} "
-        f"(>= {KICK_RATIO_OK}x) |",
-        f"| gets up from all 5 training states (Fig. 9) | 5 of 5 | {got_up} of 5 "
-        f"| {_yes(got_up == 5)} |",
-        f"| gets up from 65 of 180 sweep states | {PAPER_SWEEP} of 180 | "
-        f"{fmt(sweep, 'd')} of {n_sweep} | "
-        f"{_yes(sweep is not None and sweep >= PAPER_SWEEP)} (>= 65) |",
-        f"| the legs return to the ready posture (Fig. 10) | yes | largest final "
-        f"error {legs_err:.2f} deg | {_yes(legs_err <= LEGS_ERROR_OK_DEG)} "
-        f"(every joint within {LEGS_ERROR_OK_DEG:g} deg) |",
+        f"(Fig. 7) | ~{PAPER_KICK_RATIO:g}x | {kick_row} |",
+        f"| gets up from all 5 training states (Fig. 9) | 5 of 5 | {getup_row} |",
+        f"| gets up from 65 of 180 sweep states | {PAPER_SWEEP} of 180 | {sweep_row} |",
+        f"| the legs return to the ready posture (Fig. 10) | yes | {legs_row} |",
         f"| every composed jump is more than 2x as high as the rule-based jumps "
-        f"(Fig. 12) | > {PAPER_COMPOSED_RATIO:g}x at every jump | {c['jumps']} "
-        f"jumps, smallest ratio {fmt(c_min)}x (rule-based mean apex "
-        f"{fmt(rule_mean)} m) | "
-        f"{_yes(c['jumps'] >= 2 and c_min is not None and c_min > 2.0)} "
-        f"(>= 2 jumps, each > 2x) |",
+        f"(Fig. 12) | > {PAPER_COMPOSED_RATIO:g}x at every jump | "
+        f"{composed_row} |",
         "",
         "## Beyond the paper: does composition help?",
         "",
-        "One 9-10-4 network evolved directly on the composed task (same start, "
-        "3000 steps, E = sum z) with as many genome evaluations as the four "
-        "stages of the composed controller together:",
-        "",
-        "| controller | fitness E (m x steps) | mean height (m) | jumps | "
-        "distance (m) | overturned / recovered | evaluations |",
-        "| --- | --- | --- | --- | --- | --- | --- |",
     ]
-    simple_evals = sum(info[s]["evaluations"] for s in TRAINED[:-1])
-    for name, m, evals in (
-        ("composed (3 frozen + switcher)", c, simple_evals),
-        ("monolithic", mono, info["monolithic"]["evaluations"]),
-    ):
-        lines.append(
-            f"| {name} | {m['fitness']:.1f} | {m['mean_height_m']:.3f} | "
-            f"{m['jumps']} | {m['distance_m']:.2f} | {m['overturned']} / "
-            f"{m['recovered']} | {evals:,} |"
+    if c is None or mono is None:
+        lines += [
+            "Needs the composed and the monolithic stages (not run yet: "
+            f"{', '.join(s for s in ('composed', 'monolithic') if s not in info)}).",
+            "",
+        ]
+    else:
+        lines += [
+            "One 9-10-4 network evolved directly on the composed task (same start, "
+            "3000 steps, E = sum z) with as many genome evaluations as the four "
+            "stages of the composed controller together:",
+            "",
+            "| controller | fitness E (m x steps) | mean height (m) | jumps | "
+            "distance (m) | overturned / recovered | evaluations |",
+            "| --- | --- | --- | --- | --- | --- | --- |",
+        ]
+        simple_evals = sum(info[s]["evaluations"] for s in TRAINED[:-1])
+        for name, m, evals in (
+            ("composed (3 frozen + switcher)", c, simple_evals),
+            ("monolithic", mono, info["monolithic"]["evaluations"]),
+        ):
+            lines.append(
+                f"| {name} | {m['fitness']:.1f} | {m['mean_height_m']:.3f} | "
+                f"{m['jumps']} | {m['distance_m']:.2f} | {m['overturned']} / "
+                f"{m['recovered']} | {evals:,} |"
+            )
+        better = c["fitness"] > mono["fitness"]
+        times = (
+            f"{c['fitness'] / mono['fitness']:.2f}x" if mono["fitness"] > 0 else "n/a"
         )
-    better = c["fitness"] > mono["fitness"]
-    times = f"{c['fitness'] / mono['fitness']:.2f}x" if mono["fitness"] > 0 else "n/a"
+        lines += [
+            "",
+            f"Composition {'helps' if better else 'does not help'} at this budget: "
+            f"the composed controller's E is {times} the monolithic one's.",
+            "",
+        ]
     lines += [
-        "",
-        f"Composition {'helps' if better else 'does not help'} at this budget: "
-        f"the composed controller's E is {times} the monolithic one's.",
-        "",
         "## Budget and wall time",
         "",
         "| stage | population | generations | genome evaluations | control steps | "
@@ -401,8 +458,7 @@ def results_markdown(out: Path) -> str:
         f"| rules | - | - | - | 3,000 | - | {_minutes(rules['wall_s'])} |",
     ]
     total = rules["wall_s"]
-    for s in TRAINED:
-        i = info[s]
+    for s, i in info.items():
         total += i["train_wall_s"] + i["eval_wall_s"]
         lines.append(
             f"| {s} | {marker['population']} | {i['generations']} | "
@@ -417,35 +473,38 @@ def results_markdown(out: Path) -> str:
         "",
         "## Figures",
         "",
-        "Rule-based successive jumping (Fig. 5):",
-        "",
-        "![rule-based](rules/trajectory.png)",
-        "",
-        "Kick vs rule-based (Fig. 7):",
-        "",
-        "![kick](kick/eval/kick_vs_rules.png)",
-        "",
-        "Getting up from the five start states (Fig. 9) and the sweep:",
-        "",
-        "![getup](getup/eval/getup.png)",
-        "",
-        "![sweep](getup/sweep/sweep.png)",
-        "",
-        "Returning the legs (Fig. 10):",
-        "",
-        "![return-legs](return-legs/eval/return_legs.png)",
-        "",
-        "Successive jumping by the composed controller, with the selected simple "
-        "behaviour (Fig. 12):",
-        "",
-        "![composed](composed/eval/composed.png)",
-        "",
-        "The monolithic baseline:",
-        "",
-        "![monolithic](monolithic/eval/monolithic.png)",
-        "",
     ]
-    for s in TRAINED:
+    figures = (
+        (
+            "Rule-based successive jumping (Fig. 5):",
+            "rule-based",
+            "rules/trajectory.png",
+        ),
+        ("Kick vs rule-based (Fig. 7):", "kick", "kick/eval/kick_vs_rules.png"),
+        (
+            "Getting up from the five start states (Fig. 9) and the sweep:",
+            "getup",
+            "getup/eval/getup.png",
+        ),
+        ("", "sweep", "getup/sweep/sweep.png"),
+        (
+            "Returning the legs (Fig. 10):",
+            "return-legs",
+            "return-legs/eval/return_legs.png",
+        ),
+        (
+            "Successive jumping by the composed controller, with the selected "
+            "simple behaviour (Fig. 12):",
+            "composed",
+            "composed/eval/composed.png",
+        ),
+        ("The monolithic baseline:", "monolithic", "monolithic/eval/monolithic.png"),
+    )
+    for caption, alt, fig in figures:
+        if (out / fig).is_file():
+            lines += [caption, ""] if caption else []
+            lines += [f"![{alt}]({fig})", ""]
+    for s in info:
         lines += [f"Fitness per generation, {s}:", "", f"![{s}]({s}/fitness.png)", ""]
     vids = [f"`{s}/video.mp4`" for s in STAGES if (out / s / "video.mp4").is_file()]
     if vids:
