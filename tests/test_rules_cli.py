@@ -52,6 +52,7 @@ def test_cli_rules_writes_csv_and_figure(tmp_path, capsys):
         (["rules", "--change-time", "-1", "--out", "X"], "--change-time"),
         (["model", "--scale", "0", "--out", "X"], "--scale must be"),
         (["model", "--scale", "-2", "--out", "X"], "--scale must be"),
+        (["rules", "--strut-stiffness", "-1", "--out", "X"], "--strut-stiffness"),
         (["rules", "--out", "X", "--bogus"], "unrecognized arguments: --bogus"),
     ],
 )
@@ -86,3 +87,29 @@ def test_find_jumps_splits_at_a_bounce(params):
     assert len(jumps) == 2
     assert jumps[0].apex_height == pytest.approx(stand + 1, abs=1e-3)
     assert jumps[1].apex_height == pytest.approx(stand + 1.3, abs=1e-3)
+
+
+def test_sprung_struts_are_an_option_and_leave_the_default_alone(tmp_path, capsys):
+    """strut_stiffness > 0 hangs the fore and middle legs on sprung hinges; the
+    default MJCF has no such joints, and the inputs still read the hind legs."""
+    rigid = lm.load_model(lm.LocustParams())
+    assert rigid.njnt == 5  # root + the four actuated hinges
+    p = lm.LocustParams(strut_stiffness=1e-5)
+    m = lm.load_model(p)
+    struts = ["fore_l", "mid_l", "fore_r", "mid_r"]
+    assert m.njnt == 9
+    assert all(m.jnt_stiffness[m.joint(j).id] > 0 for j in struts)
+    idx = lm.ModelIndex.of(m)
+    assert [m.joint(m.jnt_qposadr.tolist().index(a)).name for a in idx.qpos_joints] == [
+        "hip_l", "knee_l", "hip_r", "knee_r",
+    ]  # fmt: skip
+    # settled at the start state: the middle legs sag a little and hold
+    sag = np.degrees(m.key(lm.READY_KEY).qpos[m.jnt_qposadr[m.joint("mid_l").id]])
+    assert 0.1 < sag < p.strut_swing
+    out = tmp_path / "rules"
+    argv = ["rules", "--steps", "600", "--strut-stiffness", "1e-5", "--out", str(out)]
+    assert cli.main(argv) == 0
+    assert "jumps in 600 steps" in capsys.readouterr().out
+    assert '"strut_stiffness_Nm_per_rad": 1e-05' in (out / "summary.json").read_text()
+    with pytest.raises(ValueError, match="strut_stiffness"):
+        lm.LocustParams(strut_stiffness=-1.0)

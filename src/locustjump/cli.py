@@ -63,9 +63,20 @@ def _positive_float(name: str, *, allow_zero: bool = False):
     return parse
 
 
+def _strut_stiffness_arg(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--strut-stiffness",
+        type=_positive_float("--strut-stiffness", allow_zero=True),
+        default=0.0,
+        metavar="NM_PER_RAD",
+        help="fore and middle legs on sprung hinges of this stiffness at real "
+        "scale, e.g. 2e-4 (default 0: rigid struts, the trained creature)",
+    )
+
+
 def cmd_model(args: argparse.Namespace) -> int:
     out = io.prepare_out_file(args.out, force=args.force)
-    p = lm.LocustParams(scale=args.scale)
+    p = lm.LocustParams(scale=args.scale, strut_stiffness=args.strut_stiffness)
     io.atomic_write_text(out, lm.to_mjcf(p))
     print(f"wrote {out} (scale {p.scale:g}, body length {p.body_length:.3g} m)")
     return 0
@@ -76,7 +87,8 @@ def cmd_rules(args: argparse.Namespace) -> int:
     from locustjump.rules import run_rules
 
     out = io.prepare_out_dir(args.out, force=args.force)
-    run = run_rules(args.change_time, args.steps)
+    p = lm.LocustParams(strut_stiffness=args.strut_stiffness)
+    run = run_rules(args.change_time, args.steps, model_params=p)
     io.write_trajectory_csv(out / "trajectory.csv", run.qpos, run.obs, run.ctrl)
     trajectory_figure(
         out / "trajectory.png",
@@ -89,6 +101,7 @@ def cmd_rules(args: argparse.Namespace) -> int:
             {
                 "change_time_s": run.change_time,
                 "steps": args.steps,
+                "strut_stiffness_Nm_per_rad": p.strut_stiffness,
                 "jumps": len(run.jumps),
                 "apex_heights_m": [round(j.apex_height, 4) for j in run.jumps],
                 "unstable": run.unstable,
@@ -315,6 +328,7 @@ def build_parser() -> argparse.ArgumentParser:
         default=lm.LocustParams().scale,
         help="size over a real locust",
     )
+    _strut_stiffness_arg(p)
     p.add_argument("--out", required=True, help="MJCF file to write")
     p.add_argument("--force", action="store_true", help="overwrite --out")
     p.set_defaults(func=cmd_model)
@@ -333,6 +347,7 @@ def build_parser() -> argparse.ArgumentParser:
         default=3000,
         help="control steps of 1/120 s (default 3000)",
     )
+    _strut_stiffness_arg(p)
     p.add_argument("--out", required=True, help="output directory")
     p.add_argument("--force", action="store_true", help="write into a non-empty --out")
     p.set_defaults(func=cmd_rules)

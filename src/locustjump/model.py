@@ -14,8 +14,9 @@ along +x. The hind legs move in the body's sagittal (x-z) plane:
   180 deg = straight leg.
 
 Both ranges lie inside (0, 2 pi), so the angle never wraps (SPEC, I1–I4).
-The fore and middle legs are rigid struts fixed to the body (cheapest passive
-legs: the creature stands, lands and can be overturned on them).
+The fore and middle legs are rigid struts fixed to the body by default (the
+cheapest passive legs: the creature stands, lands and can be overturned on
+them); ``strut_stiffness > 0`` hangs each on a sprung, damped hinge instead.
 
 The physics timestep is ``CONTROL_DT / substeps``; contact softness is fixed in
 seconds (``solref``) so that refining the timestep does not change the contact
@@ -72,6 +73,14 @@ class LocustParams:
     # Struts end this far above the floor when standing level, so that the hind
     # tarsi always carry weight (and their touch sensors fire) at rest.
     strut_clearance: float = 0.0005  # (m)
+    # 0: struts fixed to the body. > 0: each strut swings on a passive hinge
+    # (horizontal axis across the strut, so weight splays it outwards) with
+    # this spring. Standing, the middle legs carry about a third of the weight
+    # (the abdomen tip and hind tarsi the rest, the fore legs none) and sag
+    # 0.2 deg at 2e-4 N m/rad, 1.2 deg at 2.5e-6 (scripts/rules_posture_grid.py).
+    strut_stiffness: float = 0.0  # (N m/rad) at real scale
+    strut_damping: float = 4.0e-6  # (N m s/rad) of a sprung strut's hinge
+    strut_swing: float = 30.0  # (deg) a sprung strut's hinge range is +-this
 
     # Joint ranges and the ready-to-jump posture phi (Fig. 3/4), in degrees.
     hip_range: tuple[float, float] = (20.0, 140.0)  # (deg)
@@ -104,6 +113,12 @@ class LocustParams:
             raise ValueError(f"scale must be > 0, got {self.scale}")
         if self.substeps < 1:
             raise ValueError(f"substeps must be >= 1, got {self.substeps}")
+        if not self.strut_stiffness >= 0:
+            raise ValueError(
+                f"strut_stiffness must be >= 0, got {self.strut_stiffness}"
+            )
+        if not 0 < self.strut_swing < 90:
+            raise ValueError(f"strut_swing must be in (0, 90), got {self.strut_swing}")
         for nm in ("hip", "knee"):
             lo, hi = getattr(self, f"{nm}_range")
             if not 0.0 < lo < hi < 360.0:
@@ -187,9 +202,18 @@ def to_mjcf(p: LocustParams = LocustParams(), *, keyframe: bool = True) -> str:
         # long enough for the tip sphere to touch the ground when standing
         length = (h0 + a[2] - (p.strut_radius + p.strut_clearance) * s) / -d[2]
         b = a + d * length
+        size = f'size="{p.strut_radius * s:.9g}"'
+        if p.strut_stiffness == 0:
+            return (
+                f'<geom name="{nm}_{side}" class="strut" '
+                f'fromto="{_fmt(*a, *b)}" {size}/>'
+            )
+        axis = np.cross(d, (0.0, 0.0, 1.0))
         return (
+            f'<body name="{nm}_{side}" pos="{_fmt(*a)}">'
+            f'<joint name="{nm}_{side}" class="strut" axis="{_fmt(*_unit(axis))}"/>'
             f'<geom name="{nm}_{side}" class="strut" '
-            f'fromto="{_fmt(*a, *b)}" size="{p.strut_radius * s:.9g}"/>'
+            f'fromto="0 0 0 {_fmt(*(b - a))}" {size}/></body>'
         )
 
     def hind_leg(side: str, sign: float) -> str:
@@ -237,6 +261,14 @@ def to_mjcf(p: LocustParams = LocustParams(), *, keyframe: bool = True) -> str:
     touch = "".join(
         f'<touch name="touch_{side}" site="tarsus_site_{side}"/>' for side in "lr"
     )
+    strut_joint = (
+        ""
+        if p.strut_stiffness == 0
+        else f'<joint type="hinge" stiffness="{p.strut_stiffness * s5:.9g}" '
+        f'damping="{p.strut_damping * s5:.9g}" '
+        f'armature="{p.joint_armature * s5:.9g}" '
+        f'range="{-p.strut_swing:.9g} {p.strut_swing:.9g}"/>'
+    )
     bl = p.body_length
     head_x = (p.body_half_length + p.head_radius) * s
     xml = f"""<mujoco model="locust">
@@ -266,7 +298,7 @@ def to_mjcf(p: LocustParams = LocustParams(), *, keyframe: bool = True) -> str:
           solref="{_fmt(*p.solref)}" solimp="{_fmt(*p.solimp)}" material="cuticle"/>
     <pair condim="3" friction="{_fmt(p.friction, p.friction, 0.005, 0.0001, 0.0001)}"
           solref="{_fmt(*p.solref)}" solimp="{_fmt(*p.solimp)}"/>
-    <default class="strut"><geom type="capsule" material="leg"/></default>
+    <default class="strut"><geom type="capsule" material="leg"/>{strut_joint}</default>
     <default class="leg"><geom type="capsule" material="leg"/></default>
     <default class="hind">
       <joint type="hinge" axis="0 1 0" damping="{p.joint_damping * s5:.9g}"
