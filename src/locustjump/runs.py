@@ -49,6 +49,9 @@ BEST = "best.npz"
 FITNESS_PNG = "fitness.png"
 SIMPLE = "simple.npz"
 FORMAT = 1  # version of checkpoint.npz / best.npz
+#: LocustParams fields newer than the shipped runs: in the config hash only
+#: when not at their default (the default is the creature those runs used)
+_LATER_MODEL_FIELDS = ("strut_stiffness", "strut_damping", "strut_swing")
 METRICS_COLUMNS = (
     "generation",
     "best",
@@ -111,9 +114,14 @@ class TrainConfig:
 
     def hash(self) -> str:
         """Identity of the experiment: everything but ``generations`` (a run may
-        be extended), as 16 hex digits."""
+        be extended), as 16 hex digits. Model fields added after runs were
+        shipped count only when changed, so those runs keep their hash."""
         d = self.to_dict()
         del d["generations"]
+        default = lm.LocustParams()
+        for name in _LATER_MODEL_FIELDS:
+            if d["model"][name] == getattr(default, name):
+                del d["model"][name]
         text = json.dumps(d, sort_keys=True)
         return hashlib.sha256(text.encode()).hexdigest()[:16]
 
