@@ -1,6 +1,6 @@
 """Wall time of a training generation vs the physics-only time of its episodes.
 
-A real run (``runs.train``: GA, batched networks, fitness, metrics, atomic
+A real run (``rundir.train``: GA, batched networks, fitness, metrics, atomic
 checkpoint) at the paper's population is trained for ``warmup + generations``
 generations in one call, back to back as a user's run is; each generation's
 wall time is the one its ``metrics.csv`` records. Then, from a copy of the GA
@@ -28,28 +28,32 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).parent))
 from _physics import physics_only_seconds  # noqa: E402
-from locustjump import runs  # noqa: E402
+from locustjump import rundir  # noqa: E402
+from locustjump.backends import ThreadBackend  # noqa: E402
 from locustjump.behaviours import (  # noqa: E402
     BEHAVIOURS,
     SIMPLE_BEHAVIOURS,
     get_behaviour,
 )
+from locustjump.config import TrainConfig  # noqa: E402
 from locustjump.controller import MLP  # noqa: E402
-from locustjump.rcga import RCGA, RCGAParams  # noqa: E402
-from locustjump.rollout import ThreadBackend  # noqa: E402
+from locustjump.optimizers.rcga import RCGA, RCGAParams  # noqa: E402
+from locustjump.train import train  # noqa: E402
 
 TARGET = 1.15
 
 
-def simple_genomes(src: str | None) -> runs.SimpleGenomes:
+def simple_genomes(src: str | None) -> rundir.FrozenGenomes:
     """The composed stage's frozen networks: the best genomes of the simple
     stages of reproduction directory ``src``, or random ones (seeded)."""
     if src is not None:
-        return runs.SimpleGenomes.from_runs(
-            {s: Path(src) / s for s in SIMPLE_BEHAVIOURS}, runs.TrainConfig().model
+        return rundir.FrozenGenomes.from_runs(
+            SIMPLE_BEHAVIOURS,
+            {s: Path(src) / s for s in SIMPLE_BEHAVIOURS},
+            TrainConfig().model,
         )
     g = MLP().random_genomes(np.random.default_rng(0), len(SIMPLE_BEHAVIOURS))
-    return runs.SimpleGenomes(g, ("random",) * 3, ("",) * 3)
+    return rundir.FrozenGenomes(SIMPLE_BEHAVIOURS, g, ("random",) * 3, ("",) * 3)
 
 
 @dataclass(frozen=True)
@@ -94,14 +98,14 @@ def measure(
     generations: int = 10,
     threads: int = 2,
     repeats: int = 3,
-    simple: runs.SimpleGenomes | None = None,
+    simple: rundir.FrozenGenomes | None = None,
 ) -> GenerationTimes:
     """Train ``warmup + generations`` generations, then time physics-only
     replays of the measured generations' episodes."""
-    cfg = runs.TrainConfig(
+    cfg = TrainConfig(
         behaviour=behaviour,
         generations=warmup + generations,
-        rcga=RCGAParams(population=population),
+        optimizer=RCGAParams(population=population),
     )
     beh = get_behaviour(behaviour, None if simple is None else simple.genomes)
     p = cfg.model
@@ -110,12 +114,12 @@ def measure(
     kw = {"simple": simple} if behaviour == "composed" else {}
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(tmp) / "run"
-        runs.train(cfg.replace(generations=warmup), out, progress=False,
+        train(cfg.replace(generations=warmup), out, progress=False,
                    backend=backend, **kw)  # fmt: skip
-        with np.load(out / runs.CHECKPOINT) as z:
+        with np.load(out / rundir.CHECKPOINT) as z:
             ga = RCGA.from_state(beh.controller.num_params, cfg.rcga, dict(z))
-        runs.train(cfg, out, progress=False, backend=backend, resume=True, **kw)
-        metrics = runs.read_metrics(out / runs.METRICS)
+        train(cfg, out, progress=False, backend=backend, resume=True, **kw)
+        metrics = rundir.read_metrics(out / rundir.METRICS)
     wall = [float(w) for w in metrics["wall_s"][warmup:]]
     steps = [int(n) for n in metrics["control_steps"][warmup:]]
     phys = []

@@ -4,7 +4,7 @@ The engine runs a population of random 9-10-4 networks from the start state
 (sensors, batched network, actuation, recording, mujoco.batch stepping). The
 physics-only baseline replays the very same controls open-loop with
 ``mujoco.rollout`` (same model, same substeps, same thread count), so the ratio
-is the price of closing the loop in Python. Medians of --repeats runs.
+is the price of closing the loop in Python. Medians of --repeats rundir.
 
     python benchmarks/throughput.py [--episodes 50] [--steps 300]
 """
@@ -23,8 +23,9 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).parent))
 from _physics import physics_only_seconds  # noqa: E402
 from locustjump import model as lm  # noqa: E402
+from locustjump.backends import ThreadBackend  # noqa: E402
 from locustjump.controller import MLP  # noqa: E402
-from locustjump.rollout import RolloutJob, StartStates, ThreadBackend  # noqa: E402
+from locustjump.rollout import RolloutJob, StartStates  # noqa: E402
 
 
 def main() -> None:

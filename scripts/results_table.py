@@ -11,8 +11,9 @@ from __future__ import annotations
 import argparse
 import statistics
 
-from locustjump import runs
+from locustjump import rundir
 from locustjump.behaviours.getup import sweep_angles, sweep_getup
+from locustjump.evaluate import evaluate_run
 
 
 def main() -> None:
@@ -20,12 +21,12 @@ def main() -> None:
     ap.add_argument("runs", nargs="+")
     args = ap.parse_args()
     rows, header, summary = [], None, []
-    kinds = {runs.load_run(d)[0].behaviour for d in args.runs}
+    kinds = {rundir.load_run(d)[0].behaviour for d in args.runs}
     if len(kinds) > 1:
         raise SystemExit(f"one behaviour per table, got {sorted(kinds)}")
     for d in args.runs:
-        cfg, _, best = runs.load_run(d)
-        ev = runs.evaluate_run(d)
+        cfg, _, best = rundir.load_run(d)
+        ev = evaluate_run(d)
         m = ev.metrics
         budget = f"{cfg.rcga.population} x {best.generation}/{cfg.generations}"
         if cfg.behaviour == "kick":

@@ -7,8 +7,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from locustjump import runs
-from locustjump.behaviours import get_behaviour
+from locustjump import rundir
+from locustjump.backends import ThreadBackend
+from locustjump.behaviours import SIMPLE_BEHAVIOURS, get_behaviour
 from locustjump.behaviours.composed import (
     SIMPLE,
     SWITCH_EVERY,
@@ -16,11 +17,14 @@ from locustjump.behaviours.composed import (
     overturns,
 )
 from locustjump.cli import main
+from locustjump.config import TrainConfig
 from locustjump.controller import MLP
-from locustjump.io import UserError
-from locustjump.rcga import RCGAParams
-from locustjump.reproduce import MARKER, RESULTS, Budget, replay, reproduce
-from locustjump.rollout import ThreadBackend
+from locustjump.errors import UserError
+from locustjump.evaluate import evaluate_run
+from locustjump.optimizers.rcga import RCGAParams
+from locustjump.reproduce import PAPER_STAGES, Budget, replay, reproduce
+from locustjump.rundir import MARKER, RESULTS
+from locustjump.train import train
 
 NET, SWITCH = MLP(), MLP(n_out=3, output="sigmoid")
 
@@ -88,35 +92,36 @@ def simple_runs(tmp_path_factory) -> dict[str, Path]:
     root = tmp_path_factory.mktemp("simple")
     dirs = {}
     for name in SIMPLE:
-        cfg = runs.TrainConfig(
-            behaviour=name, generations=1, rcga=RCGAParams(population=4)
+        cfg = TrainConfig(
+            behaviour=name, generations=1, optimizer=RCGAParams(population=4)
         )
-        runs.train(cfg, root / name, progress=False)
+        train(cfg, root / name, progress=False)
         dirs[name] = root / name
     return dirs
 
 
 def test_composed_run_keeps_its_frozen_genomes(simple_runs, tmp_path):
-    cfg = runs.TrainConfig(
-        behaviour="composed", generations=2, rcga=RCGAParams(population=4)
+    cfg = TrainConfig(
+        behaviour="composed", generations=2, optimizer=RCGAParams(population=4)
     )
-    simple = runs.SimpleGenomes.from_runs(simple_runs, cfg.model)
+    simple = rundir.FrozenGenomes.from_runs(SIMPLE_BEHAVIOURS, simple_runs, cfg.model)
     out = tmp_path / "c"
-    runs.train(cfg.replace(generations=1), out, progress=False, simple=simple)
-    stored = runs.load_config(out / runs.CONFIG)
+    train(cfg.replace(generations=1), out, progress=False, frozen=simple)
+    stored = rundir.load_config(out / rundir.CONFIG)
     assert stored.simple == simple.digest
     np.testing.assert_array_equal(
-        runs.SimpleGenomes.load(out / runs.SIMPLE).genomes, simple.genomes
+        rundir.FrozenGenomes.load(out / rundir.FROZEN, SIMPLE_BEHAVIOURS, 144).genomes,
+        simple.genomes,
     )
     # resume needs nothing but the directory, and equals an uninterrupted run
-    runs.train(cfg, out, progress=False, resume=True)
+    train(cfg, out, progress=False, resume=True)
     whole = tmp_path / "whole"
-    runs.train(cfg, whole, progress=False, simple=simple)
-    for name in (runs.BEST, runs.CHECKPOINT):
+    train(cfg, whole, progress=False, frozen=simple)
+    for name in (rundir.BEST, rundir.CHECKPOINT):
         with np.load(out / name) as a, np.load(whole / name) as b:
             for k in set(a.files) - {"metrics_row"}:  # holds the wall time
                 np.testing.assert_array_equal(a[k], b[k], err_msg=f"{name}:{k}")
-    ev = runs.evaluate_run(out)
+    ev = evaluate_run(out)
     assert ev.matches and (out / "eval" / "composed.png").is_file()
     assert set(ev.metrics["selected_steps"]) == set(SIMPLE)
 
@@ -152,24 +157,28 @@ def test_composed_bad_input(simple_runs, tmp_path, capsys):
     assert "only for train composed" in capsys.readouterr().err
     # different model parameters
     with pytest.raises(UserError, match="model parameters differ"):
-        cfg = runs.TrainConfig(behaviour="composed")
-        runs.SimpleGenomes.from_runs(
-            simple_runs, cfg.model.__class__(scale=2.0 * cfg.model.scale)
+        cfg = TrainConfig(behaviour="composed")
+        rundir.FrozenGenomes.from_runs(
+            SIMPLE_BEHAVIOURS,
+            simple_runs,
+            cfg.model.__class__(scale=2.0 * cfg.model.scale),
         )
     # a tampered simple.npz is refused on resume
     ok = [f"--{k}={v}" for k, v in simple_runs.items()]
     out = tmp_path / "d"
     assert main([*argv, *ok, "--out", str(out), "--quiet"]) == 0
     capsys.readouterr()
-    s = runs.SimpleGenomes.load(out / runs.SIMPLE)
-    runs.SimpleGenomes(s.genomes + 1.0, s.sources, s.hashes).save(out / runs.SIMPLE)
-    before = (out / runs.CHECKPOINT).read_bytes()
+    s = rundir.FrozenGenomes.load(out / rundir.FROZEN, SIMPLE_BEHAVIOURS, 144)
+    rundir.FrozenGenomes(SIMPLE_BEHAVIOURS, s.genomes + 1.0, s.sources, s.hashes).save(
+        out / rundir.FROZEN
+    )
+    before = (out / rundir.CHECKPOINT).read_bytes()
     assert (
         main(["train", "composed", "--generations", "2", "--resume", "--out", str(out)])
         == 2
     )
     assert "are not the ones" in capsys.readouterr().err
-    assert (out / runs.CHECKPOINT).read_bytes() == before
+    assert (out / rundir.CHECKPOINT).read_bytes() == before
 
 
 # --- reproduce -------------------------------------------------------------------
@@ -188,7 +197,7 @@ def test_reproduce_writes_every_stage_and_the_results_table(reproduction):
     r = reproduction
     assert (r / MARKER).is_file() and (r / RESULTS).is_file()
     for stage in ("kick", "getup", "return-legs", "composed", "monolithic"):
-        assert (r / stage / runs.BEST).is_file(), stage
+        assert (r / stage / rundir.BEST).is_file(), stage
         assert (r / stage / "eval" / "metrics.json").is_file(), stage
     assert (r / "getup" / "sweep" / "sweep.csv").is_file()
     text = (r / RESULTS).read_text()
@@ -198,16 +207,16 @@ def test_reproduce_writes_every_stage_and_the_results_table(reproduction):
     for fig in ("rules/trajectory.png", "composed/eval/composed.png"):
         assert f"]({fig})" in text and (r / fig).is_file()
     # the monolithic baseline got the four stages' generations
-    m = runs.read_metrics(r / "monolithic" / runs.METRICS)
-    assert len(m) == sum(TINY.generations.values())
+    m = rundir.read_metrics(r / "monolithic" / rundir.METRICS)
+    assert len(m) == sum(TINY.of(s) for s in PAPER_STAGES) == TINY.of("monolithic")
 
 
 def test_reproduce_continues_and_refuses_other_directories(reproduction, tmp_path):
     logs: list[str] = []
-    before = (reproduction / "kick" / runs.CHECKPOINT).read_bytes()
+    before = (reproduction / "kick" / rundir.CHECKPOINT).read_bytes()
     reproduce(reproduction, budget=TINY, progress=False, log=logs.append, videos=False)
     assert all("done" in s for s in logs if s.startswith("[") and "rules" not in s)
-    assert (reproduction / "kick" / runs.CHECKPOINT).read_bytes() == before
+    assert (reproduction / "kick" / rundir.CHECKPOINT).read_bytes() == before
     with pytest.raises(UserError, match="budget"):
         reproduce(reproduction, budget="quick", progress=False, log=lambda s: None)
     other = tmp_path / "other"
@@ -235,7 +244,7 @@ def test_reproduce_without_monolithic_then_adds_it(tmp_path):
 
 
 def test_results_table_of_an_unfinished_reproduction(reproduction, tmp_path):
-    from locustjump.reproduce import results_markdown
+    from locustjump.results import results_markdown
 
     d = shutil.copytree(reproduction, tmp_path / "r")
     for stage in ("return-legs", "composed", "monolithic"):

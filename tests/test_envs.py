@@ -8,7 +8,7 @@ gym = pytest.importorskip("gymnasium", reason="extra locustjump[gym] not install
 
 from gymnasium.utils.env_checker import check_env  # noqa: E402
 
-from locustjump import runs  # noqa: E402
+from locustjump import rundir  # noqa: E402
 from locustjump.controller import MLP  # noqa: E402
 from locustjump.envs import TASKS, LocustEnv  # noqa: E402
 
@@ -59,7 +59,7 @@ def test_reset_start_option():
     assert info["start"] == 0 and not np.array_equal(obs0, obs4)
     with pytest.raises(ValueError, match="start"):
         env.reset(options={"start": 5})
-    with pytest.raises(ValueError, match="unknown task"):
+    with pytest.raises(ValueError, match="unknown behaviour"):
         LocustEnv("fly")
 
 
@@ -92,7 +92,7 @@ def _env_fitness(task: str, genome: np.ndarray) -> float:
     ],
 )
 def test_evolved_genome_gets_engine_fitness(shipped, stage, task):
-    cfg, beh, best = runs.load_run(shipped / stage)
+    cfg, beh, best = rundir.load_run(shipped / stage)
     engine = float(
         beh.fitness(beh.simulate(best.genome[None], cfg.model), cfg.model)[0]
     )

@@ -6,15 +6,16 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from locustjump import runs
 from locustjump.behaviours import get_behaviour
 from locustjump.behaviours.base import settle
 from locustjump.behaviours.getup import TRAIN_ROLLS, rolled_starts, sweep_angles
 from locustjump.behaviours.return_legs import extended_start
 from locustjump.cli import main
-from locustjump.rcga import RCGAParams
+from locustjump.config import TrainConfig
+from locustjump.optimizers.rcga import RCGAParams
 from locustjump.rollout import RolloutResult
 from locustjump.sensors import up_axis_in_body
+from locustjump.train import train
 
 
 def test_settle_is_deterministic(params):
@@ -86,10 +87,10 @@ def test_sweep_angles():
 @pytest.fixture(scope="module")
 def getup_run(tmp_path_factory) -> Path:
     out = tmp_path_factory.mktemp("getup") / "run"
-    cfg = runs.TrainConfig(
-        behaviour="getup", generations=1, rcga=RCGAParams(population=4)
+    cfg = TrainConfig(
+        behaviour="getup", generations=1, optimizer=RCGAParams(population=4)
     )
-    runs.train(cfg, out, progress=False)
+    train(cfg, out, progress=False)
     return out
 
 
@@ -126,8 +127,8 @@ def test_sweep_bad_input(getup_run, capsys, args, match):
 
 def test_sweep_and_resume_refuse_another_behaviour(getup_run, tmp_path, capsys):
     kick = tmp_path / "kick"
-    cfg = runs.TrainConfig(generations=1, rcga=RCGAParams(population=4))
-    runs.train(cfg, kick, progress=False)
+    cfg = TrainConfig(generations=1, optimizer=RCGAParams(population=4))
+    train(cfg, kick, progress=False)
     assert main(["sweep-getup", str(kick)]) == 2
     assert "needs a getup run" in capsys.readouterr().err
     assert main(["train", "getup", "--resume", "--out", str(kick)]) == 2

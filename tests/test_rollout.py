@@ -3,12 +3,12 @@
 import numpy as np
 import pytest
 
+from locustjump.backends import ThreadBackend
 from locustjump.controller import MLP
 from locustjump.rollout import (
     RolloutJob,
     RolloutResult,
     StartStates,
-    ThreadBackend,
     reference_rollout,
     rollout,
 )

@@ -14,26 +14,32 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from locustjump import runs
+from locustjump import rundir
+from locustjump.backends import ThreadBackend
 from locustjump.behaviours import get_behaviour
 from locustjump.behaviours.kick import kick_fitness
 from locustjump.cli import main
-from locustjump.io import UserError
-from locustjump.rcga import RCGAParams
-from locustjump.rollout import ThreadBackend
+from locustjump.config import TrainConfig
+from locustjump.errors import UserError
+from locustjump.evaluate import evaluate_run
+from locustjump.optimizers.rcga import RCGAParams
+from locustjump.train import train
 
-SMALL = runs.TrainConfig(generations=4, rcga=RCGAParams(population=6), seed=5)
+SMALL = TrainConfig(generations=4, optimizer=RCGAParams(population=6), seed=5)
 EXACT = ("generation", "best", "mean", "std", "evaluations", "control_steps")
 
 
 def assert_same_run(a: Path, b: Path) -> None:
     """Same genomes, fitness, GA state and metrics, bit for bit (not wall time)."""
-    for name in (runs.CHECKPOINT, runs.BEST):
+    for name in (rundir.CHECKPOINT, rundir.BEST):
         with np.load(a / name) as za, np.load(b / name) as zb:
             assert za.files == zb.files
             for k in set(za.files) - {"metrics_row"}:  # holds the wall time
                 np.testing.assert_array_equal(za[k], zb[k], err_msg=f"{name}:{k}")
-    ma, mb = runs.read_metrics(a / runs.METRICS), runs.read_metrics(b / runs.METRICS)
+    ma, mb = (
+        rundir.read_metrics(a / rundir.METRICS),
+        rundir.read_metrics(b / rundir.METRICS),
+    )
     for k in EXACT:
         np.testing.assert_array_equal(ma[k], mb[k])
 
@@ -41,19 +47,25 @@ def assert_same_run(a: Path, b: Path) -> None:
 @pytest.fixture(scope="module")
 def full_run(tmp_path_factory) -> Path:
     out = tmp_path_factory.mktemp("full") / "run"
-    runs.train(SMALL, out, progress=False, backend=ThreadBackend(2))
+    train(SMALL, out, progress=False, backend=ThreadBackend(2))
     return out
 
 
 def test_run_directory_files(full_run):
-    for name in (runs.CONFIG, runs.METRICS, runs.CHECKPOINT, runs.BEST, "fitness.png"):
+    for name in (
+        rundir.CONFIG,
+        rundir.METRICS,
+        rundir.CHECKPOINT,
+        rundir.BEST,
+        "fitness.png",
+    ):
         assert (full_run / name).is_file(), name
-    assert runs.load_config(full_run / runs.CONFIG) == SMALL
-    m = runs.read_metrics(full_run / runs.METRICS)
+    assert rundir.load_config(full_run / rundir.CONFIG) == SMALL
+    m = rundir.read_metrics(full_run / rundir.METRICS)
     np.testing.assert_array_equal(m["generation"], [1, 2, 3, 4])
     np.testing.assert_array_equal(m["evaluations"], [6, 4, 4, 4])  # elites kept
     assert np.all(np.diff(m["best"]) >= 0)
-    best = runs.BestGenome.load(full_run / runs.BEST, 144)
+    best = rundir.BestGenome.load(full_run / rundir.BEST, 144)
     assert best.fitness == m["best"][-1]
     assert best.behaviour == "kick" and best.config_hash == SMALL.hash()
     # no temporary files are left behind by the atomic writes
@@ -62,25 +74,25 @@ def test_run_directory_files(full_run):
 
 def test_resume_is_bit_identical(full_run, tmp_path):
     out = tmp_path / "run"
-    r = runs.train(SMALL, out, progress=False, stop_after=2)
+    r = train(SMALL, out, progress=False, stop_after=2)
     assert r.generation == 2
     # as if killed between the checkpoint and the metrics row of generation 2
-    m = out / runs.METRICS
+    m = out / rundir.METRICS
     m.write_text("".join(m.read_text().splitlines(keepends=True)[:-1]))
-    runs.train(SMALL, out, progress=False, resume=True)
+    train(SMALL, out, progress=False, resume=True)
     assert_same_run(full_run, out)
 
 
 def test_thread_count_does_not_change_the_result(full_run, tmp_path):
     out = tmp_path / "run"
-    runs.train(SMALL, out, progress=False, backend=ThreadBackend(1))
+    train(SMALL, out, progress=False, backend=ThreadBackend(1))
     assert_same_run(full_run, out)
 
 
 def test_resume_after_a_kill_is_bit_identical(tmp_path):
     cfg = SMALL.replace(generations=40)
     ref = tmp_path / "ref"
-    runs.train(cfg, ref, progress=False)
+    train(cfg, ref, progress=False)
     out = tmp_path / "killed"
     cmd = [sys.executable, "-m", "locustjump.cli", "train", "kick", "--population",
            "6", "--seed", "5", "--generations", "40", "--threads", "1", "--quiet",
@@ -88,13 +100,13 @@ def test_resume_after_a_kill_is_bit_identical(tmp_path):
     proc = subprocess.Popen(cmd)
     deadline = time.monotonic() + 120
     while time.monotonic() < deadline:
-        m = out / runs.METRICS
+        m = out / rundir.METRICS
         if m.exists() and len(m.read_text().splitlines()) > 6:
             break
         time.sleep(0.02)
     proc.send_signal(signal.SIGKILL)
     proc.wait()
-    done = len(runs.read_metrics(out / runs.METRICS))
+    done = len(rundir.read_metrics(out / rundir.METRICS))
     assert 0 < done < 40, "the run should have been killed mid-way"
     assert main(["train", "kick", "--resume", "--quiet", "--out", str(out)]) == 0
     assert_same_run(ref, out)
@@ -102,10 +114,10 @@ def test_resume_after_a_kill_is_bit_identical(tmp_path):
 
 def test_resume_can_extend_a_finished_run(full_run, tmp_path):
     out = tmp_path / "run"
-    runs.train(SMALL.replace(generations=2), out, progress=False)
-    runs.train(SMALL, out, progress=False, resume=True)
+    train(SMALL.replace(generations=2), out, progress=False)
+    train(SMALL, out, progress=False, resume=True)
     assert_same_run(full_run, out)
-    assert runs.load_config(out / runs.CONFIG).generations == 4
+    assert rundir.load_config(out / rundir.CONFIG).generations == 4
 
 
 def test_evaluate_reproduces_the_recorded_fitness(full_run, capsys):
@@ -114,7 +126,7 @@ def test_evaluate_reproduces_the_recorded_fitness(full_run, capsys):
     assert "matches training" in text and "apex_height_m" in text
     assert (full_run / "eval" / "trajectory.csv").is_file()
     assert (full_run / "eval" / "kick_vs_rules.png").is_file()
-    ev = runs.evaluate_run(full_run)
+    ev = evaluate_run(full_run)
     assert ev.matches and ev.metrics["fitness"] == ev.fitness
     header = (full_run / "eval" / "trajectory.csv").read_text().splitlines()[0]
     assert header.startswith("step,t,x,y,z,up_z,touch,hip_l,knee_l,hip_r,knee_r")
@@ -150,11 +162,11 @@ def run_cli(args, capsys):
 
 
 def test_new_run_refuses_a_used_directory(full_run, capsys):
-    before = (full_run / runs.METRICS).read_bytes()
+    before = (full_run / rundir.METRICS).read_bytes()
     code, err = run_cli(["train", "kick", "--out", str(full_run)], capsys)
     assert code == 2 and "holds a run" in err and "--resume" in err
     assert len(err.splitlines()) == 1
-    assert (full_run / runs.METRICS).read_bytes() == before
+    assert (full_run / rundir.METRICS).read_bytes() == before
 
 
 def copy_run(src: Path, dst: Path) -> Path:
@@ -167,30 +179,30 @@ def copy_run(src: Path, dst: Path) -> Path:
 
 def test_truncated_checkpoint_is_named(full_run, tmp_path, capsys):
     out = copy_run(full_run, tmp_path / "run")
-    data = (out / runs.CHECKPOINT).read_bytes()
-    (out / runs.CHECKPOINT).write_bytes(data[: len(data) // 2])
+    data = (out / rundir.CHECKPOINT).read_bytes()
+    (out / rundir.CHECKPOINT).write_bytes(data[: len(data) // 2])
     snapshot = {f.name: f.read_bytes() for f in out.iterdir() if f.is_file()}
     code, err = run_cli(
         ["train", "kick", "--resume", "--generations", "6", "--out", str(out)], capsys
     )
-    assert code == 2 and runs.CHECKPOINT in err and len(err.splitlines()) == 1
+    assert code == 2 and rundir.CHECKPOINT in err and len(err.splitlines()) == 1
     # nothing overwritten, except config.toml (not rewritten either: same bytes)
     assert {f.name: f.read_bytes() for f in out.iterdir() if f.is_file()} == snapshot
 
 
 def test_bad_genome_files_are_named(full_run, tmp_path, capsys):
     out = copy_run(full_run, tmp_path / "run")
-    best = runs.BestGenome.load(out / runs.BEST)
-    dataclasses.replace(best, genome=best.genome[:-1]).save(out / runs.BEST)
+    best = rundir.BestGenome.load(out / rundir.BEST)
+    dataclasses.replace(best, genome=best.genome[:-1]).save(out / rundir.BEST)
     code, err = run_cli(["evaluate", str(out)], capsys)
     assert code == 2 and "143 genes" in err and "144" in err
-    (out / runs.BEST).write_bytes(b"not a zip file")
+    (out / rundir.BEST).write_bytes(b"not a zip file")
     code, err = run_cli(["evaluate", str(out)], capsys)
-    assert code == 2 and runs.BEST in err
-    with zipfile.ZipFile(out / runs.BEST, "w") as z:  # an npz without our keys
+    assert code == 2 and rundir.BEST in err
+    with zipfile.ZipFile(out / rundir.BEST, "w") as z:  # an npz without our keys
         z.writestr("x.npy", b"")
     code, err = run_cli(["evaluate", str(out)], capsys)
-    assert code == 2 and runs.BEST in err
+    assert code == 2 and rundir.BEST in err
 
 
 @pytest.mark.parametrize(
@@ -222,8 +234,12 @@ def test_config_file_sets_the_run(tmp_path):
     out = tmp_path / "run"
     assert main(["train", "kick", "--config", str(cfg), "--generations", "1",
                  "--quiet", "--out", str(out)]) == 0  # fmt: skip
-    c = runs.load_config(out / runs.CONFIG)
-    assert c.rcga.crossover == "sbx" and c.rcga.population == 4 and c.generations == 1
+    c = rundir.load_config(out / rundir.CONFIG)
+    assert (
+        c.optimizer.crossover == "sbx"
+        and c.optimizer.population == 4
+        and c.generations == 1
+    )
 
 
 def test_resume_checks_what_the_directory_holds(full_run, tmp_path, capsys):
@@ -235,19 +251,19 @@ def test_resume_checks_what_the_directory_holds(full_run, tmp_path, capsys):
     assert code == 2 and "--seed 9 differs" in err
     # another behaviour's run: stored config says kick, the command says getup
     other = copy_run(full_run, tmp_path / "other")
-    text = (other / runs.CONFIG).read_text().replace('"kick"', '"nope"')
-    (other / runs.CONFIG).write_text(text)
+    text = (other / rundir.CONFIG).read_text().replace('"kick"', '"nope"')
+    (other / rundir.CONFIG).write_text(text)
     code, err = run_cli(["train", "kick", "--resume", "--out", str(other)], capsys)
-    assert code == 2 and "behaviour" in err and runs.CONFIG in err
+    assert code == 2 and "behaviour" in err and rundir.CONFIG in err
 
 
 def test_checkpoint_of_another_configuration_is_refused(full_run, tmp_path):
     out = copy_run(full_run, tmp_path / "run")
-    (out / runs.CONFIG).write_text(
-        (out / runs.CONFIG).read_text().replace("seed = 5", "seed = 6")
+    (out / rundir.CONFIG).write_text(
+        (out / rundir.CONFIG).read_text().replace("seed = 5", "seed = 6")
     )
     with pytest.raises(UserError, match="another configuration"):
-        runs.train(SMALL.replace(seed=6), out, progress=False, resume=True)
+        train(SMALL.replace(seed=6), out, progress=False, resume=True)
 
 
 def test_evaluate_of_a_directory_without_a_run(tmp_path, capsys):
@@ -267,7 +283,7 @@ def test_shipped_runs_keep_their_config_hash():
     for path in configs:
         text = path.read_text()
         recorded = re.search(r"config hash ([0-9a-f]{16})", text).group(1)
-        cfg = runs.TrainConfig.from_dict(tomllib.loads(text), str(path))
+        cfg = TrainConfig.from_dict(tomllib.loads(text), str(path))
         assert cfg.hash() == recorded, path
         changed = dataclasses.replace(
             cfg, model=cfg.model.replace(strut_stiffness=1e-5)

@@ -22,32 +22,54 @@ if (
     if _ctypes_util.find_library("EGL"):
         _os.environ["MUJOCO_GL"] = "egl"
 
-from locustjump.behaviours import BEHAVIOURS, Behaviour, get_behaviour
+from locustjump.backends import ThreadBackend, make_backend
+from locustjump.behaviours import (
+    BEHAVIOURS,
+    Behaviour,
+    get_behaviour,
+    register_behaviour,
+)
+from locustjump.config import TrainConfig
 from locustjump.controller import MLP, Controller
+from locustjump.evaluate import evaluate_run
 from locustjump.model import CONTROL_DT, LocustParams, load_model, to_mjcf
-from locustjump.rcga import RCGA, RCGAParams
+from locustjump.optimizers import (
+    CMAES,
+    RCGA,
+    CMAParams,
+    RandomSearch,
+    RandomSearchParams,
+    RCGAParams,
+    make_optimizer,
+    register,
+)
+from locustjump.reproduce import reproduce
 from locustjump.rollout import (
     RolloutJob,
     RolloutResult,
     StartStates,
-    ThreadBackend,
     reference_rollout,
     rollout,
 )
 from locustjump.rules import RuleController, run_rules
-from locustjump.runs import TrainConfig, evaluate_run, load_run, train
+from locustjump.rundir import load_run
+from locustjump.train import train
 
 __version__ = "0.1.0"
 
 __all__ = [
     "BEHAVIOURS",
+    "CMAES",
     "CONTROL_DT",
     "MLP",
     "RCGA",
     "Behaviour",
+    "CMAParams",
     "Controller",
     "LocustParams",
     "RCGAParams",
+    "RandomSearch",
+    "RandomSearchParams",
     "RolloutJob",
     "RolloutResult",
     "RuleController",
@@ -58,6 +80,11 @@ __all__ = [
     "get_behaviour",
     "load_model",
     "load_run",
+    "make_backend",
+    "make_optimizer",
+    "register",
+    "register_behaviour",
+    "reproduce",
     "reference_rollout",
     "rollout",
     "run_rules",

@@ -6,12 +6,12 @@ import argparse
 import json
 import sys
 from collections.abc import Sequence
-from pathlib import Path
 
 import numpy as np
 
-from locustjump import io
 from locustjump import model as lm
+from locustjump import rundir
+from locustjump.errors import UserError
 
 
 class _Parser(argparse.ArgumentParser):
@@ -74,41 +74,27 @@ def _strut_stiffness_arg(p: argparse.ArgumentParser) -> None:
     )
 
 
+def _backend(args: argparse.Namespace):
+    from locustjump.backends import make_backend
+
+    return make_backend(args.backend, threads=args.threads)
+
+
 def cmd_model(args: argparse.Namespace) -> int:
-    out = io.prepare_out_file(args.out, force=args.force)
+    out = rundir.prepare_out_file(args.out, force=args.force)
     p = lm.LocustParams(scale=args.scale, strut_stiffness=args.strut_stiffness)
-    io.atomic_write_text(out, lm.to_mjcf(p))
+    rundir.atomic_write_text(out, lm.to_mjcf(p))
     print(f"wrote {out} (scale {p.scale:g}, body length {p.body_length:.3g} m)")
     return 0
 
 
 def cmd_rules(args: argparse.Namespace) -> int:
-    from locustjump.plots import trajectory_figure
-    from locustjump.rules import run_rules
+    from locustjump.rules import write_rules_run
 
-    out = io.prepare_out_dir(args.out, force=args.force)
+    out = rundir.prepare_out_dir(args.out, force=args.force)
     p = lm.LocustParams(strut_stiffness=args.strut_stiffness)
-    run = run_rules(args.change_time, args.steps, model_params=p)
-    io.write_trajectory_csv(out / "trajectory.csv", run.qpos, run.obs, run.ctrl)
-    trajectory_figure(
-        out / "trajectory.png",
-        [("rule-based", run.qpos, run.jumps)],
-        title=f"Rule-based successive jumping (change time {run.change_time:.3f} s)",
-    )
-    io.atomic_write_text(
-        out / "summary.json",
-        json.dumps(
-            {
-                "change_time_s": run.change_time,
-                "steps": args.steps,
-                "strut_stiffness_Nm_per_rad": p.strut_stiffness,
-                "jumps": len(run.jumps),
-                "apex_heights_m": [round(j.apex_height, 4) for j in run.jumps],
-                "unstable": run.unstable,
-            },
-            indent=2,
-        )
-        + "\n",
+    run = write_rules_run(
+        out, args.change_time, args.steps, model_params=p, backend=_backend(args)
     )
     apexes = ", ".join(f"{j.apex_height:.2f}" for j in run.jumps) or "none"
     print(f"{len(run.jumps)} jumps in {args.steps} steps; apex heights [m]: {apexes}")
@@ -119,72 +105,52 @@ def cmd_rules(args: argparse.Namespace) -> int:
 
 
 def cmd_train(args: argparse.Namespace) -> int:
-    from locustjump import runs
-    from locustjump.rollout import ThreadBackend
+    from locustjump.behaviours import behaviour_class, behaviour_names
+    from locustjump.train import resolve_config, train
 
-    if args.resume:
-        if args.config is not None:
-            raise io.UserError(
-                "--resume reads the run's own config.toml; drop --config"
-            )
-        path = Path(args.out) / runs.CONFIG
-        if not path.is_file():
-            raise io.UserError(f"--resume: {args.out} holds no run (no {runs.CONFIG})")
-        cfg = runs.load_config(path)
-        if cfg.behaviour != args.behaviour:
-            raise io.UserError(
-                f"--resume: {args.out} holds a {cfg.behaviour!r} run, "
-                f"not {args.behaviour!r}"
-            )
-        for key, have in (("seed", cfg.seed), ("population", cfg.rcga.population)):
-            if getattr(args, key) not in (None, have):
-                raise io.UserError(
-                    f"--{key} {getattr(args, key)} differs from the run's {key} "
-                    f"{have} ({path})"
-                )
-    else:
-        cfg = runs.TrainConfig(behaviour=args.behaviour)
-        if args.config is not None:
-            cfg = runs.load_config(args.config, behaviour=args.behaviour)
-            if cfg.behaviour != args.behaviour:
-                raise io.UserError(
-                    f"{args.config}: behaviour {cfg.behaviour!r} differs from the "
-                    f"command's {args.behaviour!r}"
-                )
-        if args.seed is not None:
-            cfg = cfg.replace(seed=args.seed)
-        if args.population is not None:
-            cfg = cfg.replace(rcga=cfg.rcga.replace(population=args.population))
-    if args.generations is not None:
-        cfg = cfg.replace(generations=args.generations)
-    dirs = {"kick": args.kick, "getup": args.getup, "return-legs": args.return_legs}
-    simple = None
-    if args.behaviour != "composed":
-        given = [f"--{k}" for k, v in dirs.items() if v is not None]
-        if given:
-            raise io.UserError(f"{', '.join(given)}: only for train composed")
-    elif not args.resume or any(v is not None for v in dirs.values()):
-        simple = runs.SimpleGenomes.from_runs(dirs, cfg.model)
-    res = runs.train(
+    cfg = resolve_config(
+        args.behaviour,
+        args.out,
+        resume=args.resume,
+        config=args.config,
+        optimizer=args.optimizer,
+        seed=args.seed,
+        population=args.population,
+        generations=args.generations,
+    )
+    requires = behaviour_class(args.behaviour).requires
+    dirs = {name: getattr(args, _dest(name)) for name in _frozen_options()}
+    given = [f"--{k}" for k, v in dirs.items() if v is not None and k not in requires]
+    if given:
+        raise UserError(
+            f"{', '.join(given)}: only for train "
+            + " or ".join(b for b in behaviour_names() if behaviour_class(b).requires)
+            + f" ({args.behaviour} builds on no other run)"
+        )
+    frozen = None
+    if requires and (not args.resume or any(dirs[r] is not None for r in requires)):
+        frozen = rundir.FrozenGenomes.from_runs(requires, dirs, cfg.model)
+    res = train(
         cfg,
         args.out,
         resume=args.resume,
-        backend=ThreadBackend(args.threads),
+        backend=_backend(args),
         progress=not args.quiet,
-        simple=simple,
+        frozen=frozen,
     )
+    stopped = f"; the optimizer stopped: {res.stopped}" if res.stopped else ""
     print(
         f"{cfg.behaviour}: {res.generation} generations, best fitness "
-        f"{res.best.fitness:.6g} (generation {res.best.generation}); "
+        f"{res.best.fitness:.6g} (generation {res.best.generation}){stopped}; "
         f"wrote {res.out}"
     )
     return 0
 
 
 def cmd_evaluate(args: argparse.Namespace) -> int:
-    from locustjump import runs
+    from locustjump.evaluate import evaluate_run
 
-    ev = runs.evaluate_run(args.run)
+    ev = evaluate_run(args.run, backend=_backend(args))
     if args.json:
         print(json.dumps(ev.to_dict(), indent=2))
     else:
@@ -208,11 +174,10 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
 
 
 def cmd_sweep_getup(args: argparse.Namespace) -> int:
-    from locustjump import runs
-    from locustjump.behaviours.getup import sweep_angles
+    from locustjump.behaviours.getup import sweep_angles, sweep_run
 
     angles = sweep_angles(args.step_deg, args.from_deg, args.to_deg)
-    sw, files = runs.sweep_run(args.run, angles)
+    sw, files = sweep_run(args.run, angles, backend=_backend(args))
     n_train = int(sw.training.sum())
     print(
         f"got up from {sw.got_up} of {sw.n_sweep} (the paper: 65 of 180); "
@@ -224,19 +189,17 @@ def cmd_sweep_getup(args: argparse.Namespace) -> int:
 
 def cmd_reproduce(args: argparse.Namespace) -> int:
     from locustjump.reproduce import reproduce
-    from locustjump.rollout import ThreadBackend
 
-    command = (
-        f"locustjump reproduce --budget {args.budget} --seed {args.seed} "
-        f"--out {args.out}"
-    )
+    opt = "" if args.optimizer == "rcga" else f" --optimizer {args.optimizer}"
     path = reproduce(
         args.out,
         budget=args.budget,
         seed=args.seed,
-        backend=ThreadBackend(args.threads),
+        optimizer=args.optimizer,
+        backend=_backend(args),
         progress=not args.quiet,
-        command=command,
+        command=f"locustjump reproduce --budget {args.budget} --seed {args.seed}"
+        f"{opt} --out {args.out}",
         videos=not args.no_videos,
         monolithic=not args.no_monolithic,
     )
@@ -245,21 +208,17 @@ def cmd_reproduce(args: argparse.Namespace) -> int:
 
 
 def cmd_replay(args: argparse.Namespace) -> int:
+    from locustjump.behaviours import behaviour_class
     from locustjump.reproduce import replay
 
     failed = 0
-    for stage, ev in replay(args.dir, args.out, force=args.force):
+    for stage, ev in replay(
+        args.dir, args.out, force=args.force, backend=_backend(args)
+    ):
         status = "matches" if ev.matches else "DIFFERS from"
         failed += not ev.matches
-        m = ev.metrics
-        keys = {
-            "kick": ("apex_height_m", "apex_height_ratio_to_rules"),
-            "getup": ("got_up_from",),
-            "return-legs": ("final_error_deg",),
-            "composed": ("jumps", "apex_heights_m", "min_apex_ratio_to_rules"),
-            "monolithic": ("jumps", "apex_heights_m"),
-        }[stage]
-        shown = ", ".join(f"{k} {m.get(k)}" for k in keys)
+        keys = behaviour_class(stage).headline
+        shown = ", ".join(f"{k} {ev.metrics.get(k)}" for k in keys)
         print(f"[{stage}] fitness {ev.fitness:.6g} ({status} the record); {shown}")
     print(f"wrote {args.out}/<stage>/ (figures and trajectories)")
     if failed:
@@ -281,6 +240,7 @@ def cmd_render(args: argparse.Namespace) -> int:
         camera=args.camera,
         force=args.force,
         progress=not args.quiet,
+        backend=_backend(args),
     )
     print(f"wrote {out}")
     return 0
@@ -296,15 +256,49 @@ def cmd_view(args: argparse.Namespace) -> int:
 def cmd_report(args: argparse.Namespace) -> int:
     from locustjump.report import write_report
 
-    print(f"wrote {write_report(args.dir)}")
+    print(f"wrote {write_report(args.dir, backend=_backend(args))}")
     return 0
 
 
-def _add_threads(p: argparse.ArgumentParser) -> None:
+def _frozen_options() -> tuple[str, ...]:
+    """Every run some behaviour builds on (``--kick DIR`` ...), in order."""
+    from locustjump.behaviours import behaviour_class, behaviour_names
+
+    seen: dict[str, None] = {}
+    for name in behaviour_names():
+        seen.update(dict.fromkeys(behaviour_class(name).requires))
+    return tuple(seen)
+
+
+def _dest(option: str) -> str:
+    return "frozen_" + option.replace("-", "_")
+
+
+def _add_backend(p: argparse.ArgumentParser) -> None:
+    from locustjump.backends import BACKENDS
+
+    p.add_argument(
+        "--backend",
+        choices=BACKENDS,
+        default="threads",
+        help="where episodes run (default threads; the result does not depend on it)",
+    )
     p.add_argument(
         "--threads",
         type=_int_at_least("--threads", 1),
         help="simulation threads (default: all CPUs; the result does not depend on it)",
+    )
+
+
+def _add_optimizer(p: argparse.ArgumentParser, default: str | None) -> None:
+    from locustjump.optimizers import optimizer_kinds
+
+    p.add_argument(
+        "--optimizer",
+        choices=optimizer_kinds(),
+        default=default,
+        help="rcga: the paper's GA (default); cma: CMA-ES (pycma); random: "
+        "random search",
     )
 
 
@@ -348,21 +342,23 @@ def build_parser() -> argparse.ArgumentParser:
         help="control steps of 1/120 s (default 3000)",
     )
     _strut_stiffness_arg(p)
+    _add_backend(p)
     p.add_argument("--out", required=True, help="output directory")
     p.add_argument("--force", action="store_true", help="write into a non-empty --out")
     p.set_defaults(func=cmd_rules)
 
-    from locustjump.behaviours import BEHAVIOURS
+    from locustjump.behaviours import behaviour_names
 
     p = sub.add_parser(
         "train",
-        help="evolve a behaviour with the RCGA into a run directory",
+        help="evolve a behaviour into a run directory",
         description=(
             "Evolve a behaviour. DIR receives config.toml, metrics.csv, best.npz, "
             "checkpoint.npz (every generation) and fitness.png."
         ),
     )
-    p.add_argument("behaviour", choices=BEHAVIOURS)
+    p.add_argument("behaviour", choices=behaviour_names())
+    _add_optimizer(p, None)
     p.add_argument(
         "--population", type=_int_at_least("--population", 1), help="default 50"
     )
@@ -370,7 +366,7 @@ def build_parser() -> argparse.ArgumentParser:
         "--generations", type=_int_at_least("--generations", 1), help="default 1000"
     )
     p.add_argument("--seed", type=_int_at_least("--seed", 0), help="default 0")
-    _add_threads(p)
+    _add_backend(p)
     p.add_argument(
         "--config",
         metavar="FILE",
@@ -383,9 +379,10 @@ def build_parser() -> argparse.ArgumentParser:
         help="continue the run in DIR (a larger --generations extends it)",
     )
     p.add_argument("--quiet", action="store_true", help="no progress bar")
-    for name in ("kick", "getup", "return-legs"):
+    for name in _frozen_options():
         p.add_argument(
             f"--{name}",
+            dest=_dest(name),
             metavar="DIR",
             help=f"composed: the {name} run whose best network it switches to",
         )
@@ -401,6 +398,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("run", metavar="DIR")
     p.add_argument("--json", action="store_true", help="print JSON")
+    _add_backend(p)
     p.set_defaults(func=cmd_evaluate)
 
     p = sub.add_parser(
@@ -416,6 +414,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--step-deg", type=_finite_float("--step-deg"), default=1.0)
     p.add_argument("--from-deg", type=_finite_float("--from-deg"), default=90.0)
     p.add_argument("--to-deg", type=_finite_float("--to-deg"), default=270.0)
+    _add_backend(p)
     p.set_defaults(func=cmd_sweep_getup)
 
     from locustjump.reproduce import BUDGETS
@@ -441,7 +440,8 @@ def build_parser() -> argparse.ArgumentParser:
         ),
     )
     p.add_argument("--seed", type=_int_at_least("--seed", 0), default=0)
-    _add_threads(p)
+    _add_optimizer(p, "rcga")
+    _add_backend(p)
     p.add_argument("--out", required=True, metavar="DIR")
     p.add_argument("--quiet", action="store_true", help="no progress bars")
     p.add_argument(
@@ -470,6 +470,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("dir", metavar="DIR", help="a reproduction directory")
     p.add_argument("--out", required=True, metavar="OUT", help="output directory")
     p.add_argument("--force", action="store_true", help="write into a non-empty OUT")
+    _add_backend(p)
     p.set_defaults(func=cmd_replay)
 
     from locustjump.render import CAMERAS
@@ -495,9 +496,10 @@ def build_parser() -> argparse.ArgumentParser:
         default=60.0,
         help="frames per second of simulated time, at most 120 (default 60)",
     )
-    p.add_argument("--camera", choices=CAMERAS, default="track")
+    p.add_argument("--camera", choices=CAMERAS, default=CAMERAS[0])
     p.add_argument("--force", action="store_true", help="overwrite --out")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
+    _add_backend(p)
     p.set_defaults(func=cmd_render)
 
     p = sub.add_parser(
@@ -528,6 +530,7 @@ def build_parser() -> argparse.ArgumentParser:
         ),
     )
     p.add_argument("dir", metavar="DIR")
+    _add_backend(p)
     p.set_defaults(func=cmd_report)
     return ap
 
@@ -536,7 +539,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     try:
         return args.func(args)
-    except (io.UserError, ValueError) as e:
+    except (UserError, ValueError, ImportError) as e:
         print(f"locustjump: error: {e}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:

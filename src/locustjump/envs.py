@@ -35,18 +35,26 @@ import numpy as np
 from gymnasium import spaces
 
 from locustjump import model as lm
-from locustjump.behaviours import get_behaviour
+from locustjump import names
+from locustjump.behaviours import Behaviour, behaviour_class, behaviour_names
 from locustjump.model import CONTROL_DT
 from locustjump.rollout import Episode
 from locustjump.sensors import MAX_DELTA, N_ACTUATORS, N_INPUTS
 
+
+def tasks() -> dict[str, str]:
+    """Environment id -> behaviour, for every behaviour that declares a
+    ``gym_id``."""
+    found = {}
+    for name in behaviour_names():
+        env_id = behaviour_class(name).gym_id
+        if env_id is not None:
+            found[env_id] = name
+    return found
+
+
 #: environment id -> behaviour whose start states, length and fitness it has
-TASKS: dict[str, str] = {
-    "LocustKick-v0": "kick",
-    "LocustGetUp-v0": "getup",
-    "LocustReturnLegs-v0": "return-legs",
-    "LocustSuccessiveJump-v0": "monolithic",
-}
+TASKS: dict[str, str] = tasks()
 
 _OBS_LOW = np.array([0.0] * 4 + [-1.0, 0.0, -1.0, -1.0, -1.0])
 _OBS_HIGH = np.array([2 * np.pi] * 4 + [1.0] * 5)
@@ -76,8 +84,8 @@ class LocustEnv(gym.Env):
     **Step**: 1/120 s of simulated time (``model_params.substeps`` physics
     steps).
 
-    **Reward** per step t = 1..T; the episode's return is the paper's fitness
-    of the task:
+    **Reward** per step t = 1..T (the behaviour's ``reward`` hook); the
+    episode's return is the behaviour's fitness:
 
     =================  ==============================================  ==========
     task               reward r_t                                       return
@@ -92,13 +100,18 @@ class LocustEnv(gym.Env):
     the last reward then brings the return to the task's worst fitness, as in
     training. **Truncation**: after T steps (300, 1000, 1000, 3000).
 
+    Any registered behaviour has an environment: ``LocustEnv("name")`` or
+    ``LocustEnv(behaviour_object)``; one without a dense reward of its own
+    gets its fitness as the reward of the last step.
+
     **Reset** ``options``: ``{"start": i}`` picks start state ``i`` (the
     getup task has 5: rolled 90, 135, 180, 225, 270 deg); otherwise one is
     drawn with the seeded ``np_random``. The paper's fitness of a controller
     is the mean return over all start states.
 
     Args:
-      task: ``"kick"``, ``"getup"``, ``"return-legs"`` or ``"monolithic"``.
+      task: a behaviour's name (``"kick"``, ``"getup"``, ``"return-legs"``,
+        ``"monolithic"``, or one registered later) or a behaviour object.
       render_mode: ``None`` or ``"rgb_array"``.
       model_params: the creature.
       width, height, camera: of the rendered frames (camera ``track``/``side``).
@@ -108,24 +121,28 @@ class LocustEnv(gym.Env):
 
     def __init__(
         self,
-        task: str = "kick",
+        task: str | Behaviour = "kick",
         *,
         render_mode: str | None = None,
         model_params: lm.LocustParams = lm.LocustParams(),
         width: int = 640,
         height: int = 480,
-        camera: str = "track",
+        camera: str = names.CAMERA_TRACK,
     ):
-        if task not in TASKS.values():
-            raise ValueError(f"unknown task {task!r}; one of {sorted(TASKS.values())}")
         if render_mode not in (None, *self.metadata["render_modes"]):
             raise ValueError(f"unsupported render_mode {render_mode!r}")
-        self.task = task
+        beh = behaviour_class(task)() if isinstance(task, str) else task
+        if beh.requires:
+            raise ValueError(
+                f"{beh.name} builds on frozen runs ({', '.join(beh.requires)}); "
+                "it has no environment of its own"
+            )
+        self.task = beh.name
         self.render_mode = render_mode
-        self._behaviour = get_behaviour(task)
+        self._behaviour = beh
         self._episode = Episode(model_params)
-        self._starts = self._behaviour.start_states(model_params)
-        self._ready = np.asarray(model_params.ready_angles())
+        self._starts = beh.start_states(model_params)
+        self._reward = beh.reward(model_params)
         self.n_steps = self._behaviour.n_steps
         self.observation_space = spaces.Box(_OBS_LOW, _OBS_HIGH, dtype=np.float64)
         self.action_space = spaces.Box(-1.0, 1.0, (N_ACTUATORS,), dtype=np.float64)
@@ -134,8 +151,6 @@ class LocustEnv(gym.Env):
         self._renderer = None
         self._t = 0
         self._return = 0.0
-        self._best = 0.0  # kick: max so far of dx+ dz+
-        self._start_xyz = np.zeros(3)
 
     @property
     def model_params(self) -> lm.LocustParams:
@@ -159,23 +174,9 @@ class LocustEnv(gym.Env):
         else:
             i = int(self.np_random.integers(self.n_starts))
         obs = self._episode.reset(self._starts, i)[0]
-        self._t, self._return, self._best = 0, 0.0, 0.0
-        self._start_xyz = self._episode.data.qpos[:3].copy()
+        self._t, self._return = 0, 0.0
+        self._reward.reset(self._episode.data.qpos, obs)
         return obs, {"start": i}
-
-    def _reward(self, obs: np.ndarray) -> float:
-        T = self.n_steps
-        if self.task == "kick":
-            d = self._episode.data.qpos[:3] - self._start_xyz
-            area = max(d[0], 0.0) * max(d[2], 0.0)
-            gain = max(area - self._best, 0.0)
-            self._best = max(self._best, area)
-            return gain
-        if self.task == "getup":
-            return float(obs[8]) / T
-        if self.task == "return-legs":
-            return -float(np.abs(obs[0:4] - self._ready).sum()) / T
-        return float(self._episode.data.qpos[2])
 
     def step(
         self, action: np.ndarray
@@ -191,7 +192,7 @@ class LocustEnv(gym.Env):
             obs = np.clip(np.nan_to_num(obs), _OBS_LOW, _OBS_HIGH)
             terminated = True
         else:
-            reward = self._reward(obs)
+            reward = self._reward.step(self._episode.data.qpos, obs)
             terminated = False
         self._return += reward
         truncated = not terminated and self._t >= self.n_steps
@@ -215,13 +216,13 @@ class LocustEnv(gym.Env):
 
 def register_envs() -> None:
     """Register the four ids with Gymnasium (done on import)."""
-    for env_id, task in TASKS.items():
+    for env_id, task in tasks().items():
         if env_id not in gym.registry:
             gym.register(
                 env_id,
                 entry_point="locustjump.envs:LocustEnv",
                 kwargs={"task": task},
-                max_episode_steps=get_behaviour(task).n_steps,
+                max_episode_steps=behaviour_class(task).n_steps,
             )
 
 

@@ -13,7 +13,6 @@ Headless Linux renders with EGL (``MUJOCO_GL=egl``, Debian package
 
 from __future__ import annotations
 
-import json
 import os
 import sys
 import threading
@@ -21,19 +20,24 @@ import time
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import mujoco
 import numpy as np
 
 from locustjump import model as lm
+from locustjump import names, rundir
+from locustjump.config import from_table
 from locustjump.controller import Controller
-from locustjump.io import UserError
+from locustjump.errors import UserError
 from locustjump.model import CONTROL_DT
 from locustjump.rollout import Episode, StartStates, rollout
 
-CAMERAS = ("track", "side")
+if TYPE_CHECKING:
+    from locustjump.backends import Backend
+
+CAMERAS = (names.CAMERA_TRACK, names.CAMERA_SIDE)
 VIDEO_SUFFIXES = (".mp4", ".gif")
-VIDEO_NAME = "video.mp4"  # default file in the run directory
 #: tile size (pixels) when several episodes play side by side
 TILE = (320, 240)
 
@@ -65,15 +69,21 @@ class Playback:
         return self.qpos.shape[1] - 1
 
 
-def _rules_run(path: Path) -> tuple[float, int] | None:
-    """(change time, steps) of a rule-based run directory, else None."""
-    f = path / "summary.json"
-    if not (f.is_file() and (path / "trajectory.csv").is_file()):
+def _rules_run(path: Path) -> tuple[float, int, lm.LocustParams] | None:
+    """(change time, steps, creature) of a rule-based run directory, else None.
+    Summaries written before the creature was recorded are of the default one."""
+    if not rundir.is_rules_run(path):
         return None
+    f = path / rundir.RULES_SUMMARY
+    summary = rundir.read_json(f)
     try:
-        summary = json.loads(f.read_text())
-        return float(summary["change_time_s"]), int(summary.get("steps", 3000))
-    except (ValueError, KeyError, TypeError) as e:
+        p = (
+            from_table(lm.LocustParams, summary["model"], "model", str(f))
+            if "model" in summary
+            else lm.LocustParams()
+        )
+        return float(summary["change_time_s"]), int(summary.get("steps", 3000)), p
+    except (KeyError, TypeError, ValueError) as e:
         raise UserError(f"{f}: not a rule-based run summary ({e})") from None
 
 
@@ -95,26 +105,23 @@ def source_of(path: str | os.PathLike) -> Source:
     """What directory ``path`` holds: a training run's best genome
     (``config.toml`` + ``best.npz``) or a rule-based run (``locustjump rules``
     or a reproduction's ``rules/``: ``summary.json`` + ``trajectory.csv``)."""
-    from locustjump import runs
-
     out = Path(path)
     if not out.is_dir():
         raise UserError(f"{out}: no such directory")
-    if (out / "reproduce.toml").is_file():
+    if rundir.is_reproduction(out):
         raise UserError(
             f"{out}: a reproduction; give one of its stages, e.g. {out / 'kick'}"
         )
-    if not (out / runs.CONFIG).is_file():
+    if not rundir.is_run(out):
         rules = _rules_run(out)
         if rules is None:
             raise UserError(
-                f"{out}: holds no run (no {runs.CONFIG}) and no rule-based run "
-                "(no summary.json + trajectory.csv)"
+                f"{out}: holds no run (no {rundir.CONFIG}) and no rule-based run "
+                f"(no {rundir.RULES_SUMMARY} + {rundir.TRAJECTORY_CSV})"
             )
         from locustjump.rules import RuleController
 
-        change_time, steps = rules
-        p = lm.LocustParams()
+        change_time, steps, p = rules
         rc = RuleController.for_model(p)
         return Source(
             p,
@@ -125,13 +132,8 @@ def source_of(path: str | os.PathLike) -> Source:
             ["rule-based"],
             f"rule-based, change time {change_time:.3f} s",
         )
-    cfg, beh, best = runs.load_run(out)
+    cfg, beh, best = rundir.load_run(out)
     labels = beh.state_labels()
-    names = None
-    if cfg.behaviour == "composed":
-        from locustjump.behaviours.composed import SIMPLE
-
-        names = SIMPLE
     return Source(
         cfg.model,
         beh.controller,
@@ -141,11 +143,11 @@ def source_of(path: str | os.PathLike) -> Source:
         labels if len(labels) > 1 else [cfg.behaviour],
         f"{cfg.behaviour}, best of generation {best.generation}, "
         f"fitness {best.fitness:.4g}",
-        names,
+        beh.memory_labels,
     )
 
 
-def playback_of(path: str | os.PathLike) -> Playback:
+def playback_of(path: str | os.PathLike, *, backend: Backend | None = None) -> Playback:
     """Re-simulate what directory ``path`` holds (:func:`source_of`) with the
     engine, keeping every control step."""
     src = source_of(path)
@@ -157,6 +159,7 @@ def playback_of(path: str | os.PathLike) -> Playback:
         src.n_steps,
         model_params=src.model_params,
         record=record,
+        backend=backend,
     )
     captions = None
     if src.memory_names is not None:
@@ -204,7 +207,7 @@ def frames(
     pb: Playback,
     *,
     fps: float = 60.0,
-    camera: str = "track",
+    camera: str = names.CAMERA_TRACK,
     size: tuple[int, int] | None = None,
 ) -> Iterator[np.ndarray]:
     """RGB frames (h, w * k, 3) of ``pb`` at ``fps``, episodes side by side."""
@@ -275,7 +278,7 @@ def render_video(
     out: str | os.PathLike,
     *,
     fps: float = 60.0,
-    camera: str = "track",
+    camera: str = names.CAMERA_TRACK,
     force: bool = False,
     progress: Callable[[int], None] | None = None,
 ) -> Path:
@@ -305,16 +308,17 @@ def render_run(
     out: str | os.PathLike | None = None,
     *,
     fps: float = 60.0,
-    camera: str = "track",
+    camera: str = names.CAMERA_TRACK,
     force: bool = False,
     progress: bool = False,
+    backend: Backend | None = None,
 ) -> Path:
     """Video of what directory ``path`` holds (default ``path/video.mp4``)."""
-    out = Path(path) / VIDEO_NAME if out is None else Path(out)
+    out = Path(path) / rundir.VIDEO if out is None else Path(out)
     check_video_path(out, force=force)
     if camera not in CAMERAS:
         raise UserError(f"unknown camera {camera!r}; one of {', '.join(CAMERAS)}")
-    pb = playback_of(path)
+    pb = playback_of(path, backend=backend)
     if not progress:
         return render_video(pb, out, fps=fps, camera=camera, force=force)
     from tqdm import tqdm
@@ -366,7 +370,7 @@ def _play(handle, ep: Episode, src: Source, end: float | None) -> None:
     with handle as v:
         with v.lock():  # follow the body, from the side, 3 body lengths away
             v.cam.type = mujoco.mjtCamera.mjCAMERA_TRACKING
-            v.cam.trackbodyid = ep.model.body("body").id
+            v.cam.trackbodyid = ep.model.body(names.BODY).id
             v.cam.distance = 3 * src.model_params.body_length
             v.cam.azimuth, v.cam.elevation = 90.0, -10.0
         while v.is_running():

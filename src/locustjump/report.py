@@ -18,11 +18,13 @@ import json
 import os
 import re
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from locustjump.io import UserError, atomic_write_text
+from locustjump import rundir
+from locustjump.errors import UserError
 
-REPORT = "report.html"
+if TYPE_CHECKING:
+    from locustjump.backends import Backend
 _MIME = {".png": "image/png", ".gif": "image/gif", ".mp4": "video/mp4"}
 
 _STYLE = """
@@ -140,7 +142,7 @@ def _videos(d: Path) -> list[Path]:
 
 def _figures(d: Path) -> list[Path]:
     found = []
-    for sub in ("eval", "sweep"):
+    for sub in (rundir.EVAL, rundir.SWEEP):
         if (d / sub).is_dir():
             found += sorted((d / sub).glob("*.png"))
     return found
@@ -148,13 +150,11 @@ def _figures(d: Path) -> list[Path]:
 
 def _run_section(d: Path, metrics: dict[str, Any] | None, level: int = 2) -> str:
     """The part of the page about training run ``d``."""
-    from locustjump import runs
-
     h = f"h{level}"
     parts = [f"<{h}>Configuration</{h}>"]
-    parts.append(f"<pre>{html.escape((d / runs.CONFIG).read_text())}</pre>")
-    if (d / runs.METRICS).is_file():
-        with open(d / runs.METRICS, newline="") as f:
+    parts.append(f"<pre>{html.escape((d / rundir.CONFIG).read_text())}</pre>")
+    if (d / rundir.METRICS).is_file():
+        with open(d / rundir.METRICS, newline="") as f:
             rows = list(csv.DictReader(f))
         if rows:
             last = rows[-1]
@@ -172,7 +172,7 @@ def _run_section(d: Path, metrics: dict[str, Any] | None, level: int = 2) -> str
                     }
                 )
             )
-    fit = d / "fitness.png"
+    fit = d / rundir.FITNESS_PNG
     if fit.is_file():
         parts.append(_figure(fit, "best and mean fitness per generation"))
     if metrics is not None:
@@ -211,21 +211,21 @@ Self-contained: no network needed.</footer>
 """
 
 
-def write_report(path: str | os.PathLike) -> Path:
+def write_report(path: str | os.PathLike, *, backend: Backend | None = None) -> Path:
     """Write ``path/report.html`` for a training run or a reproduction
     (rewritten on every call: it holds derived content only)."""
-    from locustjump import runs
+    from locustjump.evaluate import evaluate_run
 
     d = Path(path)
     if not d.is_dir():
         raise UserError(f"{d}: no such directory")
-    if (d / "reproduce.toml").is_file():
-        if not (d / "results.md").is_file():
-            raise UserError(f"{d}: the reproduction has no results.md yet")
-        body = [markdown_to_html((d / "results.md").read_text(), d)]
-        for stage in sorted(p for p in d.iterdir() if (p / runs.CONFIG).is_file()):
-            mfile = stage / "eval" / "metrics.json"
-            metrics = json.loads(mfile.read_text()) if mfile.is_file() else None
+    if rundir.is_reproduction(d):
+        if not (d / rundir.RESULTS).is_file():
+            raise UserError(f"{d}: the reproduction has no {rundir.RESULTS} yet")
+        body = [markdown_to_html((d / rundir.RESULTS).read_text(), d)]
+        for stage in sorted(p for p in d.iterdir() if rundir.is_run(p)):
+            mfile = rundir.eval_metrics_path(stage)
+            metrics = rundir.read_json(mfile) if mfile.is_file() else None
             body.append(f"<h2>Stage {html.escape(stage.name)}</h2>")
             body.append(_run_section(stage, metrics, level=3))
         rules_videos = _videos(d / "rules") if (d / "rules").is_dir() else []
@@ -233,8 +233,8 @@ def write_report(path: str | os.PathLike) -> Path:
             body.append("<h2>Rule-based baseline</h2>")
             body += [_figure(v, v.name) for v in rules_videos]
         title = f"locustjump reproduction: {d.name}"
-    elif (d / runs.CONFIG).is_file():
-        ev = runs.evaluate_run(d)
+    elif rundir.is_run(d):
+        ev = evaluate_run(d, backend=backend)
         metrics = {
             "re-simulated fitness": ev.fitness,
             "recorded fitness": ev.recorded_fitness,
@@ -244,9 +244,9 @@ def write_report(path: str | os.PathLike) -> Path:
         body = [_run_section(d, metrics)]
         title = f"locustjump run: {d.name} ({ev.behaviour})"
     else:
-        raise UserError(f"{d}: holds no run (no {runs.CONFIG}) and no reproduction")
-    out = d / REPORT
+        raise UserError(f"{d}: holds no run (no {rundir.CONFIG}) and no reproduction")
+    out = d / rundir.REPORT
     # a reproduction's results.md brings its own heading
-    heading = not (d / "reproduce.toml").is_file()
-    atomic_write_text(out, _page(title, "\n".join(body), heading=heading))
+    heading = not rundir.is_reproduction(d)
+    rundir.atomic_write_text(out, _page(title, "\n".join(body), heading=heading))
     return out

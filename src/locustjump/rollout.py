@@ -25,10 +25,9 @@ behaviours give it the worst fitness.
 from __future__ import annotations
 
 import functools
-import os
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Protocol
+from typing import TYPE_CHECKING
 
 import mujoco
 import numpy as np
@@ -37,6 +36,9 @@ from mujoco.batch import Batch, SimulationError
 from locustjump import model as lm
 from locustjump import sensors
 from locustjump.controller import Controller
+
+if TYPE_CHECKING:
+    from locustjump.backends import Backend
 
 #: What can be recorded per control step, and its per-step shape.
 RECORDABLE = ("qpos", "obs", "ctrl", "memory")
@@ -164,46 +166,6 @@ class RolloutResult:
         )
 
 
-class Backend(Protocol):
-    """Runs a :class:`RolloutJob`; every backend gives bit-identical results."""
-
-    def run(self, job: RolloutJob) -> RolloutResult: ...
-
-
-def default_threads() -> int:
-    """Threads to use by default: the CPUs this process may run on."""
-    return (
-        len(os.sched_getaffinity(0))
-        if hasattr(os, "sched_getaffinity")
-        else (os.cpu_count() or 1)
-    )
-
-
-class ThreadBackend:
-    """Steps all episodes in one ``mujoco.batch.Batch`` on ``threads`` C threads.
-
-    Batches are cached per episode count, so a GA that evaluates the same
-    population size every generation builds its batch once.
-    """
-
-    def __init__(self, threads: int | None = None):
-        self.threads = default_threads() if threads is None else int(threads)
-        if self.threads < 1:
-            raise ValueError(f"threads must be >= 1, got {threads}")
-        self._batches: dict[tuple[lm.LocustParams, int], Batch] = {}
-
-    def _batch(self, p: lm.LocustParams, n: int) -> Batch:
-        key = (p, n)
-        if key not in self._batches:
-            self._batches[key] = Batch(
-                lm.load_model(p), n, min(self.threads, n), persistent=True
-            )
-        return self._batches[key]
-
-    def run(self, job: RolloutJob) -> RolloutResult:
-        return _run_batch(self._batch(job.model_params, job.n_episodes), job)
-
-
 def observer(
     idx: lm.ModelIndex, p: lm.LocustParams
 ) -> Callable[[np.ndarray, np.ndarray], np.ndarray]:
@@ -225,7 +187,7 @@ def _as_slice(adr: np.ndarray) -> np.ndarray | slice:
     return a
 
 
-def _run_batch(batch: Batch, job: RolloutJob) -> RolloutResult:
+def run_batch(batch: Batch, job: RolloutJob) -> RolloutResult:
     m = batch.model
     p = job.model_params
     idx = lm.ModelIndex.of(m)
@@ -417,19 +379,6 @@ def reference_rollout(job: RolloutJob) -> RolloutResult:
     return RolloutResult.concat(parts)
 
 
-_default_backend: Backend | None = None
-
-
-def get_backend(backend: Backend | None = None) -> Backend:
-    """``backend`` or the process-wide default :class:`ThreadBackend`."""
-    global _default_backend
-    if backend is not None:
-        return backend
-    if _default_backend is None:
-        _default_backend = ThreadBackend()
-    return _default_backend
-
-
 def rollout(
     controller: Controller,
     params: np.ndarray,
@@ -449,7 +398,8 @@ def rollout(
       n_steps: control steps per episode (1/120 s each).
       model_params: the creature.
       record: fields to record per control step (see ``RECORDABLE``).
-      backend: where to run; default: local threads.
+      backend: where to run (:mod:`locustjump.backends`); default: a new
+        thread backend on every CPU, for this call only.
 
     Returns:
       A :class:`RolloutResult` with ``n_ctrl * k`` episodes, controller-major:
@@ -465,4 +415,8 @@ def rollout(
         int(n_steps),
         tuple(record),
     )
-    return get_backend(backend).run(job)
+    if backend is None:
+        from locustjump.backends import ThreadBackend
+
+        backend = ThreadBackend()
+    return backend.run(job)

@@ -18,12 +18,17 @@ came from trial and error.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from locustjump import model as lm
 from locustjump.model import CONTROL_DT
 from locustjump.sensors import MAX_DELTA
+
+if TYPE_CHECKING:
+    from locustjump.backends import Backend
 
 #: (Seconds) default change time, from scripts/tune_change_time.py
 DEFAULT_CHANGE_TIME = 0.5
@@ -96,8 +101,10 @@ def run_rules(
     steps: int = 3000,
     *,
     model_params: lm.LocustParams = lm.LocustParams(),
+    backend: Backend | None = None,
 ) -> RulesRun:
-    """Run the rule-based successive jumping from the Fig. 4 start state."""
+    """Run the rule-based successive jumping from the Fig. 4 start state
+    (``backend``: where, :mod:`locustjump.backends`)."""
     from locustjump.analysis import find_jumps
     from locustjump.rollout import StartStates, rollout
 
@@ -111,6 +118,7 @@ def run_rules(
         steps,
         model_params=model_params,
         record=("qpos", "obs", "ctrl"),
+        backend=backend,
     )
     qpos = res["qpos"][0]
     return RulesRun(
@@ -121,3 +129,47 @@ def run_rules(
         float(change_time),
         bool(res.unstable[0]),
     )
+
+
+def write_rules_run(
+    out: Path,
+    change_time: float = DEFAULT_CHANGE_TIME,
+    steps: int = 3000,
+    *,
+    model_params: lm.LocustParams = lm.LocustParams(),
+    backend: Backend | None = None,
+) -> RulesRun:
+    """Run the rules and write a rule-based run directory ``out`` (created if
+    absent): ``trajectory.csv``, ``trajectory.png`` and ``summary.json``, which
+    records the creature so that a video re-simulates the same one."""
+    import dataclasses
+
+    from locustjump import rundir
+    from locustjump.plots import trajectory_figure
+
+    run = run_rules(change_time, steps, model_params=model_params, backend=backend)
+    out.mkdir(parents=True, exist_ok=True)
+    rundir.write_trajectory_csv(
+        out / rundir.TRAJECTORY_CSV, run.qpos, run.obs, run.ctrl
+    )
+    trajectory_figure(
+        out / rundir.TRAJECTORY_PNG,
+        [("rule-based", run.qpos, run.jumps)],
+        title=f"Rule-based successive jumping (change time {run.change_time:.3f} s)",
+    )
+    model = {
+        k: list(v) if isinstance(v, tuple) else v
+        for k, v in dataclasses.asdict(model_params).items()
+    }
+    rundir.write_json(
+        out / rundir.RULES_SUMMARY,
+        {
+            "change_time_s": run.change_time,
+            "steps": steps,
+            "jumps": len(run.jumps),
+            "apex_heights_m": [round(j.apex_height, 4) for j in run.jumps],
+            "unstable": run.unstable,
+            "model": model,
+        },
+    )
+    return run

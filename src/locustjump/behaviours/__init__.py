@@ -1,50 +1,81 @@
-"""The paper's behaviours: start states + episode length + fitness, one module each.
+"""The behaviours: start states + episode length + fitness + their own hooks,
+one module each (:class:`~locustjump.behaviours.base.Behaviour` lists the
+hooks).
 
-``get_behaviour(name)`` returns a :class:`Behaviour`; ``BEHAVIOURS`` lists the
-names the command line accepts.
+``get_behaviour(name)`` returns one; ``behaviour_names()`` lists the names
+the command line accepts. A new behaviour is a subclass registered with
+:func:`register_behaviour`: training, evaluation, figures, videos, the
+results table and the Gymnasium environment then work for it unchanged.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from locustjump.behaviours.base import Behaviour
+from locustjump.behaviours.base import Behaviour, Claim
 from locustjump.behaviours.composed import SIMPLE, Composed, Monolithic
 from locustjump.behaviours.getup import GetUp
 from locustjump.behaviours.kick import Kick
 from locustjump.behaviours.return_legs import ReturnLegs
 
-_REGISTRY: dict[str, type[Behaviour]] = {
-    b.name: b for b in (Kick, GetUp, ReturnLegs, Composed, Monolithic)
-}
+_REGISTRY: dict[str, type[Behaviour]] = {}
+
+
+def register_behaviour(cls: type[Behaviour]) -> type[Behaviour]:
+    """Make behaviour class ``cls`` known by ``cls.name`` (usable as a decorator)."""
+    for attr in ("name", "n_steps"):
+        if not hasattr(cls, attr):
+            raise TypeError(f"{cls.__name__} must set {attr!r}")
+    _REGISTRY[cls.name] = cls
+    return cls
+
+
+for _cls in (Kick, GetUp, ReturnLegs, Composed, Monolithic):
+    register_behaviour(_cls)
+
+#: The paper's behaviours (the registry may hold more).
 BEHAVIOURS: tuple[str, ...] = tuple(_REGISTRY)
 #: The three simple behaviours the composed one switches between.
 SIMPLE_BEHAVIOURS: tuple[str, ...] = SIMPLE
 
 
-def get_behaviour(name: str, simple: np.ndarray | None = None) -> Behaviour:
-    """The behaviour called ``name`` (``ValueError`` if there is none).
+def behaviour_names() -> tuple[str, ...]:
+    """Every registered behaviour's name."""
+    return tuple(_REGISTRY)
 
-    ``simple`` (3, 144): the frozen kick, getup and return-legs genomes the
-    composed behaviour switches between (ignored by the others).
-    """
+
+def behaviour_class(name: str) -> type[Behaviour]:
+    """The class registered as ``name`` (``ValueError`` if there is none)."""
     try:
-        cls = _REGISTRY[name]
+        return _REGISTRY[name]
     except KeyError:
         raise ValueError(
-            f"unknown behaviour {name!r}; choose from {', '.join(BEHAVIOURS)}"
+            f"unknown behaviour {name!r}; choose from {', '.join(_REGISTRY)}"
         ) from None
-    return Composed(simple) if cls is Composed else cls()
+
+
+def get_behaviour(name: str, frozen: np.ndarray | None = None) -> Behaviour:
+    """The behaviour called ``name``.
+
+    ``frozen`` (k, P): the genomes of the runs the behaviour builds on, in the
+    order of its ``requires`` (the composed behaviour's kick, getup and
+    return-legs networks); ignored by behaviours that build on none.
+    """
+    return behaviour_class(name)(frozen)
 
 
 __all__ = [
     "BEHAVIOURS",
     "SIMPLE_BEHAVIOURS",
     "Behaviour",
+    "Claim",
     "Composed",
     "GetUp",
     "Kick",
     "Monolithic",
     "ReturnLegs",
+    "behaviour_class",
+    "behaviour_names",
     "get_behaviour",
+    "register_behaviour",
 ]

@@ -1,16 +1,23 @@
-"""What a behaviour is: start states, an episode length, a fitness, metrics."""
+"""What a behaviour is: start states, an episode length, a fitness, and the
+hooks the layers above call (figures, metrics, extra evaluations, rows of the
+results table, the Gymnasium reward), so that no other module needs to know
+which behaviour it runs."""
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import mujoco
 import numpy as np
 
 from locustjump import model as lm
 from locustjump.controller import MLP, Controller
-from locustjump.rollout import Backend, RolloutResult, StartStates, rollout
+from locustjump.rollout import RolloutResult, StartStates, rollout
+
+if TYPE_CHECKING:
+    from locustjump.backends import Backend
 
 
 def settle(
@@ -50,13 +57,86 @@ def settle(
     return StartStates(d.qpos[None].copy(), d.qvel[None].copy(), d.ctrl[None].copy())
 
 
-class Behaviour:
-    """One of the paper's experiments.
+@dataclass(frozen=True)
+class Claim:
+    """One row of ``results.md``: a claim of the paper and how ours compares.
 
-    A subclass sets ``name``, ``n_steps`` and ``record`` (what its fitness
-    reads) and implements :meth:`start_states`, :meth:`episode_fitness` and
-    :meth:`metrics`. Fitness is maximised; an episode whose simulation went
-    unstable gets ``worst_fitness``.
+    ``ours`` is ``None`` while the stage has not run yet.
+    """
+
+    text: str  # the claim, as the paper makes it (figure in parentheses)
+    paper: str  # the paper's number
+    ours: str | None = None  # our number
+    verdict: str = "-"  # "**yes**"/"no" and our criterion in parentheses
+
+    def row(self) -> str:
+        ours = (
+            "not run yet | -" if self.ours is None else f"{self.ours} | {self.verdict}"
+        )
+        return f"| {self.text} | {self.paper} | {ours} |"
+
+
+def yes(ok: bool) -> str:
+    """The verdict word of a claim row."""
+    return "**yes**" if ok else "no"
+
+
+def fmt(x: float | None, spec: str = ".2f") -> str:
+    """A number of a claim row; ``n/a`` where there is none."""
+    return "n/a" if x is None else format(x, spec)
+
+
+class StepReward:
+    """Per-step rewards of one episode that add up to the behaviour's fitness.
+
+    The default is sparse: 0 at every step and the episode's fitness
+    (``episode_fitness`` of the recorded trajectory) at the last one; a
+    behaviour overrides :meth:`Behaviour.reward` with a dense one.
+    """
+
+    def __init__(self, behaviour: Behaviour, p: lm.LocustParams):
+        self.behaviour, self.p = behaviour, p
+        self._rows: dict[str, list[np.ndarray]] = {}
+
+    def reset(self, qpos: np.ndarray, obs: np.ndarray) -> None:
+        """The start state's ``qpos (nq,)`` and inputs ``obs (9,)``."""
+        self._rows = {"qpos": [qpos.copy()], "obs": [obs.copy()]}
+
+    def step(self, qpos: np.ndarray, obs: np.ndarray) -> float:
+        """The reward of the control step that led to ``qpos``, ``obs``."""
+        self._rows["qpos"].append(qpos.copy())
+        self._rows["obs"].append(obs.copy())
+        if len(self._rows["qpos"]) <= self.behaviour.n_steps:
+            return 0.0
+        res = RolloutResult(
+            {k: np.array(v)[None] for k, v in self._rows.items()},
+            np.zeros(1, bool),
+            np.array([self.behaviour.n_steps]),
+        )
+        return float(self.behaviour.episode_fitness(res, self.p)[0])
+
+
+class Behaviour:
+    """One experiment: what a subclass sets and may override.
+
+    Required: ``name``, ``n_steps``, ``record`` (what its fitness reads),
+    :meth:`start_states`, :meth:`episode_fitness`, :meth:`metrics`. Fitness is
+    maximised; an episode whose simulation went unstable gets
+    ``worst_fitness``.
+
+    Hooks, each with a default that fits a plain behaviour:
+
+    ==========================  ================================================
+    ``requires``                runs whose best genomes it builds on (frozen)
+    ``controller``              the evolved network (default: the 9-10-4 MLP)
+    :meth:`write_figures`       its figures (named in ``figures``)
+    :meth:`extra_evaluation`    evaluations beyond the episodes (getup's sweep)
+    :meth:`claims`              its rows of ``results.md``
+    :meth:`report_section`      a section of ``results.md`` of its own
+    ``headline``                the metrics ``locustjump replay`` prints
+    ``memory_labels``           what memory[0] indexes (a video's caption)
+    ``gym_id``, :meth:`reward`  its Gymnasium environment and per-step reward
+    ==========================  ================================================
     """
 
     name: ClassVar[str]
@@ -65,6 +145,21 @@ class Behaviour:
     #: what ``evaluate_run`` records (its trajectory CSV needs the first three)
     eval_record: ClassVar[tuple[str, ...]] = ("qpos", "obs", "ctrl")
     worst_fitness: ClassVar[float] = 0.0
+    requires: ClassVar[tuple[str, ...]] = ()
+    #: (file in the run directory, alt text, caption in results.md)
+    figures: ClassVar[tuple[tuple[str, str, str], ...]] = ()
+    headline: ClassVar[tuple[str, ...]] = ("fitness",)
+    memory_labels: ClassVar[tuple[str, ...] | None] = None
+    gym_id: ClassVar[str | None] = None
+
+    def __init__(self, frozen: np.ndarray | None = None):
+        """``frozen`` (k, P): genomes of the ``requires`` runs, if any."""
+        self.frozen = None if frozen is None else np.asarray(frozen, np.float64)
+
+    @classmethod
+    def frozen_num_params(cls) -> int:
+        """Genes of each frozen genome (the paper's 9-10-4 networks)."""
+        return MLP().num_params
 
     @property
     def controller(self) -> Controller:
@@ -79,17 +174,27 @@ class Behaviour:
         raise NotImplementedError
 
     def metrics(
-        self, res: RolloutResult, p: lm.LocustParams, genome: np.ndarray
+        self,
+        res: RolloutResult,
+        p: lm.LocustParams,
+        genome: np.ndarray,
+        *,
+        backend: Backend | None = None,
     ) -> dict[str, Any]:
         """Behaviour metrics of one controller's episodes (JSON-serialisable)."""
-        raise NotImplementedError
+        return {"fitness": float(self.fitness(res, p)[0])}
 
     def state_labels(self) -> list[str]:
         """A file-name-safe label per start state."""
         return ["start"]
 
     def write_figures(
-        self, res: RolloutResult, p: lm.LocustParams, out: Path
+        self,
+        res: RolloutResult,
+        p: lm.LocustParams,
+        out: Path,
+        *,
+        backend: Backend | None = None,
     ) -> list[Path]:
         """Figures of one controller's episodes into directory ``out``."""
         from locustjump.analysis import find_jumps
@@ -99,6 +204,32 @@ class Behaviour:
         qpos = res["qpos"][0]
         trajectory_figure(path, [(self.name, qpos, find_jumps(qpos, p))])
         return [path]
+
+    def extra_evaluation(
+        self,
+        run: Path,
+        genome: np.ndarray,
+        p: lm.LocustParams,
+        *,
+        backend: Backend | None = None,
+    ) -> dict[str, Any]:
+        """Evaluations beyond the episodes, written into run directory ``run``;
+        the numbers they give (merged into ``eval/metrics.json``)."""
+        return {}
+
+    def claims(self, record: dict[str, Any] | None) -> list[Claim]:
+        """Rows of ``results.md`` from this stage's ``eval/metrics.json``
+        (``None``: not run yet)."""
+        return []
+
+    def report_section(self, stages: dict[str, dict[str, Any]]) -> list[str]:
+        """Markdown lines of a ``results.md`` section of its own, from every
+        finished stage's summary (``locustjump.results.stage_summary``)."""
+        return []
+
+    def reward(self, p: lm.LocustParams) -> StepReward:
+        """Per-step rewards of the Gymnasium environment (sum = fitness)."""
+        return StepReward(self, p)
 
     # -- shared machinery --
 

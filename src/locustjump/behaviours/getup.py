@@ -14,20 +14,26 @@
 from __future__ import annotations
 
 import functools
+import os
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from locustjump import model as lm
-from locustjump.behaviours.base import Behaviour, settle
+from locustjump.behaviours.base import Behaviour, Claim, StepReward, fmt, settle, yes
 from locustjump.model import CONTROL_DT
-from locustjump.rollout import Backend, RolloutResult, StartStates, rollout
+from locustjump.rollout import RolloutResult, StartStates, rollout
+
+if TYPE_CHECKING:
+    from locustjump.backends import Backend
 
 TRAIN_ROLLS: tuple[float, ...] = (90.0, 135.0, 180.0, 225.0, 270.0)  # (deg)
 SUCCESS_UZ = 0.9
 SETTLE_SECONDS = 3.0  # rocking on the back dies out by then (docs/behaviours.md)
+#: The paper's generalisation test: got up from 65 of 180 sweep states.
+PAPER_SWEEP = 65
 
 
 @functools.lru_cache(maxsize=16)
@@ -56,12 +62,32 @@ def getup_summary(uz: np.ndarray) -> dict[str, np.ndarray]:
     return {"final_uz": final, "success": success, "time_to_get_up_s": t_up}
 
 
+class UpReward(StepReward):
+    """Dense Eq. 2: ``U_z(t) / T``."""
+
+    def reset(self, qpos: np.ndarray, obs: np.ndarray) -> None:
+        pass
+
+    def step(self, qpos: np.ndarray, obs: np.ndarray) -> float:
+        return float(obs[8]) / self.behaviour.n_steps
+
+
 class GetUp(Behaviour):
     name = "getup"
     n_steps = 1000
     record = ("obs",)
     worst_fitness = -1.0
     rolls = TRAIN_ROLLS
+    figures = (
+        (
+            "eval/getup.png",
+            "getup",
+            "Getting up from the five start states (Fig. 9) and the sweep:",
+        ),
+        ("sweep/sweep.png", "sweep", ""),
+    )
+    headline = ("got_up_from",)
+    gym_id = "LocustGetUp-v0"
 
     def start_states(self, p: lm.LocustParams) -> StartStates:
         return rolled_starts(p, self.rolls)
@@ -73,7 +99,12 @@ class GetUp(Behaviour):
         return [f"roll{r:03.0f}" for r in self.rolls]
 
     def metrics(
-        self, res: RolloutResult, p: lm.LocustParams, genome: np.ndarray
+        self,
+        res: RolloutResult,
+        p: lm.LocustParams,
+        genome: np.ndarray,
+        *,
+        backend: Backend | None = None,
     ) -> dict[str, Any]:
         s = getup_summary(up_z(res))
         return {
@@ -91,7 +122,12 @@ class GetUp(Behaviour):
         }
 
     def write_figures(
-        self, res: RolloutResult, p: lm.LocustParams, out: Path
+        self,
+        res: RolloutResult,
+        p: lm.LocustParams,
+        out: Path,
+        *,
+        backend: Backend | None = None,
     ) -> list[Path]:
         """``getup.png``: the paper's Fig. 9, U_z over time from each state."""
         from locustjump.plots import getup_figure
@@ -99,6 +135,40 @@ class GetUp(Behaviour):
         path = out / "getup.png"
         getup_figure(path, up_z(res), self.rolls, SUCCESS_UZ)
         return [path]
+
+    def extra_evaluation(
+        self,
+        run: Path,
+        genome: np.ndarray,
+        p: lm.LocustParams,
+        *,
+        backend: Backend | None = None,
+    ) -> dict[str, Any]:
+        """The paper's generalisation test (180 states): ``run/sweep/``."""
+        sw = sweep_getup(genome, p, sweep_angles(), backend=backend)
+        write_sweep(Path(run), sw)
+        return {"sweep_got_up": sw.got_up, "sweep_states": sw.n_sweep}
+
+    def claims(self, record: dict[str, Any] | None) -> list[Claim]:
+        five = Claim("gets up from all 5 training states (Fig. 9)", "5 of 5")
+        sweep = Claim("gets up from 65 of 180 sweep states", f"{PAPER_SWEEP} of 180")
+        if record is None:
+            return [five, sweep]
+        got_up = sum(record["metrics"]["success"])
+        n_sweep = record.get("sweep_states", 180)
+        swept = record.get("sweep_got_up")
+        return [
+            Claim(five.text, five.paper, f"{got_up} of 5", yes(got_up == 5)),
+            Claim(
+                sweep.text,
+                sweep.paper,
+                f"{fmt(swept, 'd')} of {n_sweep}",
+                f"{yes(swept is not None and swept >= PAPER_SWEEP)} (>= 65)",
+            ),
+        ]
+
+    def reward(self, p: lm.LocustParams) -> StepReward:
+        return UpReward(self, p)
 
 
 def sweep_angles(
@@ -166,3 +236,51 @@ def sweep_getup(
         np.array(rolls), training, uz[:, 0], s["final_uz"], s["success"],
         s["time_to_get_up_s"],
     )  # fmt: skip
+
+
+def write_sweep(run: Path, sw: Sweep) -> list[Path]:
+    """``run/sweep/sweep.csv`` and ``sweep.png`` of a sweep."""
+    from locustjump import rundir
+    from locustjump.plots import sweep_figure
+
+    out = run / rundir.SWEEP
+    out.mkdir(exist_ok=True)
+    table = np.column_stack(
+        [sw.roll_deg, sw.training, sw.success, sw.start_uz, sw.final_uz,
+         sw.time_to_get_up_s]
+    )  # fmt: skip
+
+    def write(f) -> None:
+        np.savetxt(
+            f,
+            table,
+            delimiter=",",
+            header="angle_deg,training,success,start_uz,final_uz,time_to_get_up_s",
+            comments="",
+            fmt=["%.6g", "%d", "%d", "%.6f", "%.6f", "%.6g"],
+        )
+
+    rundir.atomic_write_bytes(out / "sweep.csv", write)
+    sweep_figure(out / "sweep.png", sw)
+    return [out / "sweep.csv", out / "sweep.png"]
+
+
+def sweep_run(
+    path: str | os.PathLike,
+    angles: np.ndarray,
+    *,
+    backend: Backend | None = None,
+) -> tuple[Sweep, list[Path]]:
+    """The get-up generalisation test of getup run ``path``'s best genome from
+    roll ``angles`` (plus the training states): ``DIR/sweep/sweep.csv`` and
+    ``sweep.png``."""
+    from locustjump import rundir
+    from locustjump.errors import UserError
+
+    cfg, _, best = rundir.load_run(path)
+    if cfg.behaviour != GetUp.name:
+        raise UserError(
+            f"{path}: holds a {cfg.behaviour!r} run; sweep-getup needs a getup run"
+        )
+    sw = sweep_getup(best.genome, cfg.model, angles, backend=backend)
+    return sw, write_sweep(Path(path), sw)

@@ -14,14 +14,20 @@ from __future__ import annotations
 
 import functools
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from locustjump import model as lm
 from locustjump import names
-from locustjump.behaviours.base import Behaviour, settle
+from locustjump.behaviours.base import Behaviour, Claim, StepReward, settle, yes
 from locustjump.rollout import RolloutResult, StartStates
+
+if TYPE_CHECKING:
+    from locustjump.backends import Backend
+
+#: What we count as "the legs return to phi" (stated in results.md).
+LEGS_ERROR_OK_DEG = 5.0
 
 
 @functools.lru_cache(maxsize=8)
@@ -35,11 +41,26 @@ def joint_errors(res: RolloutResult, p: lm.LocustParams) -> np.ndarray:
     return np.abs(res["obs"][:, :, 0:4] - p.ready_angles())
 
 
+class LegsReward(StepReward):
+    """Dense Eq. 3: ``-sum_i |phi_i - theta_i(t)| / T`` (radians)."""
+
+    def reset(self, qpos: np.ndarray, obs: np.ndarray) -> None:
+        self._ready = np.asarray(self.p.ready_angles())
+
+    def step(self, qpos: np.ndarray, obs: np.ndarray) -> float:
+        return -float(np.abs(obs[0:4] - self._ready).sum()) / self.behaviour.n_steps
+
+
 class ReturnLegs(Behaviour):
     name = "return-legs"
     n_steps = 1000
     record = ("obs",)
     worst_fitness = -4 * np.pi  # beyond any reachable error
+    figures = (
+        ("eval/return_legs.png", "return-legs", "Returning the legs (Fig. 10):"),
+    )
+    headline = ("final_error_deg",)
+    gym_id = "LocustReturnLegs-v0"
 
     def start_states(self, p: lm.LocustParams) -> StartStates:
         return extended_start(p)
@@ -48,7 +69,12 @@ class ReturnLegs(Behaviour):
         return -joint_errors(res, p)[:, 1:].sum(axis=2).mean(axis=1)
 
     def metrics(
-        self, res: RolloutResult, p: lm.LocustParams, genome: np.ndarray
+        self,
+        res: RolloutResult,
+        p: lm.LocustParams,
+        genome: np.ndarray,
+        *,
+        backend: Backend | None = None,
     ) -> dict[str, Any]:
         err = np.degrees(joint_errors(res, p)[0])
         return {
@@ -66,7 +92,12 @@ class ReturnLegs(Behaviour):
         }
 
     def write_figures(
-        self, res: RolloutResult, p: lm.LocustParams, out: Path
+        self,
+        res: RolloutResult,
+        p: lm.LocustParams,
+        out: Path,
+        *,
+        backend: Backend | None = None,
     ) -> list[Path]:
         """``return_legs.png``: the paper's Fig. 10, the joint angles over time
         converging to phi."""
@@ -75,3 +106,21 @@ class ReturnLegs(Behaviour):
         path = out / "return_legs.png"
         joint_angles_figure(path, res["obs"][0, :, 0:4], p.ready_angles())
         return [path]
+
+    def claims(self, record: dict[str, Any] | None) -> list[Claim]:
+        claim = Claim("the legs return to the ready posture (Fig. 10)", "yes")
+        if record is None:
+            return [claim]
+        err = max(record["metrics"]["final_error_deg"].values())
+        return [
+            Claim(
+                claim.text,
+                claim.paper,
+                f"largest final error {err:.2f} deg",
+                f"{yes(err <= LEGS_ERROR_OK_DEG)} (every joint within "
+                f"{LEGS_ERROR_OK_DEG:g} deg)",
+            )
+        ]
+
+    def reward(self, p: lm.LocustParams) -> StepReward:
+        return LegsReward(self, p)

@@ -33,11 +33,13 @@ Example::
 from __future__ import annotations
 
 import dataclasses
-import json
+from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import Any, ClassVar, Literal
 
 import numpy as np
+
+from locustjump.optimizers.base import check_fitness, rng_from_state, rng_state
 
 Crossover = Literal["blx", "sbx", "undx"]
 CROSSOVERS: tuple[str, ...] = ("blx", "sbx", "undx")
@@ -47,6 +49,7 @@ CROSSOVERS: tuple[str, ...] = ("blx", "sbx", "undx")
 class RCGAParams:
     """Settings of the RCGA; the defaults are the project's (module docstring)."""
 
+    kind: ClassVar[str] = "rcga"
     population: int = 50  # individuals per generation (paper: 50)
     elite: int = 2  # best individuals copied unchanged into the next generation
     tournament_size: int = 3
@@ -194,6 +197,8 @@ class RCGA:
         uniform in ``[-init_scale, init_scale]``.
     """
 
+    Params: ClassVar[type] = RCGAParams
+
     def __init__(
         self,
         num_params: int,
@@ -246,13 +251,7 @@ class RCGA:
         """Fitness (n,) of the genomes of the last :meth:`ask`, same order."""
         if self._asked is None:
             raise RuntimeError("tell() without a pending ask()")
-        f = np.asarray(fitness, dtype=np.float64).reshape(-1)
-        if f.shape[0] != self._asked.shape[0]:
-            raise ValueError(
-                f"got {f.shape[0]} fitness values for {self._asked.shape[0]} genomes"
-            )
-        if np.isnan(f).any():
-            raise ValueError("fitness contains NaN")
+        f = check_fitness(fitness, self._asked.shape[0])
         e = self.params.elite if self.generation > 0 else 0
         pop = np.concatenate([self.population[:e], self._asked])
         fit = np.concatenate([self.fitness[:e], f])
@@ -269,6 +268,10 @@ class RCGA:
     @property
     def best_fitness(self) -> float:
         return float(self.fitness[0])
+
+    def stop(self) -> str | None:
+        """The RCGA runs its whole budget: never a reason to stop."""
+        return None
 
     # -- variation --
 
@@ -300,27 +303,30 @@ class RCGA:
             "generation": np.array(self.generation),
             "population": self.population.copy(),
             "fitness": self.fitness.copy(),
-            "rng_state": np.array(json.dumps(self.rng.bit_generator.state)),
+            "rng_state": rng_state(self.rng),
         }
+
+    def load_state(self, state: Mapping[str, np.ndarray]) -> None:
+        """Inverse of :meth:`state` (``ValueError`` on inconsistent data)."""
+        self.rng = rng_from_state(state["rng_state"])
+        self.generation = int(state["generation"])
+        self.population = np.array(state["population"], dtype=np.float64)
+        self.fitness = np.array(state["fitness"], dtype=np.float64)
+        self._asked = None
+        n = self.params.population
+        if self.generation < 1 or self.population.shape != (n, self.num_params):
+            raise ValueError(
+                f"population has shape {self.population.shape} at generation "
+                f"{self.generation}, expected ({n}, {self.num_params})"
+            )
+        if self.fitness.shape != (n,) or np.isnan(self.fitness).any():
+            raise ValueError("fitness has the wrong shape or contains NaN")
 
     @classmethod
     def from_state(
-        cls, num_params: int, params: RCGAParams, state: dict[str, np.ndarray]
+        cls, num_params: int, params: RCGAParams, state: Mapping[str, np.ndarray]
     ) -> RCGA:
-        """Inverse of :meth:`state` (raises ``ValueError`` on inconsistent data)."""
-        rng_state = json.loads(str(state["rng_state"]))
-        bg = getattr(np.random, rng_state["bit_generator"])()
-        bg.state = rng_state
-        ga = cls(num_params, params, np.random.Generator(bg))
-        ga.generation = int(state["generation"])
-        ga.population = np.array(state["population"], dtype=np.float64)
-        ga.fitness = np.array(state["fitness"], dtype=np.float64)
-        n = params.population
-        if ga.generation < 1 or ga.population.shape != (n, num_params):
-            raise ValueError(
-                f"population has shape {ga.population.shape} at generation "
-                f"{ga.generation}, expected ({n}, {num_params})"
-            )
-        if ga.fitness.shape != (n,) or np.isnan(ga.fitness).any():
-            raise ValueError("fitness has the wrong shape or contains NaN")
+        """A GA restored from :meth:`state`."""
+        ga = cls(num_params, params)
+        ga.load_state(state)
         return ga

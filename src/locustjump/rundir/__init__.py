@@ -1,0 +1,64 @@
+"""The one module that knows the layout of run and reproduction directories.
+
+A **run** (``locustjump train``)::
+
+    DIR/config.toml      the resolved configuration (locustjump.config)
+    DIR/metrics.csv      one row per generation
+    DIR/checkpoint.npz   the optimizer's state after the last generation
+    DIR/best.npz         the best genome so far
+    DIR/fitness.png      best and mean fitness per generation
+    DIR/simple.npz       behaviours built on frozen runs (composed): their genomes
+    DIR/eval/            ``locustjump evaluate``: trajectories, figures, metrics.json
+    DIR/sweep/           extra evaluations a behaviour declares (getup's sweep)
+    DIR/video.mp4        ``locustjump render``
+    DIR/report.html      ``locustjump report``
+
+A **rule-based run** (``locustjump rules``, a reproduction's ``rules/``):
+``summary.json``, ``trajectory.csv``, ``trajectory.png``.
+
+A **reproduction** (``locustjump reproduce``): ``reproduce.toml``,
+``results.md``, ``report.html`` and one subdirectory per stage.
+
+Every file is written atomically (temporary file, fsync, rename), so a crash
+leaves the previous complete version, and read without pickle (TOML, JSON,
+CSV, ``.npz`` with ``allow_pickle=False``).
+"""
+
+from locustjump.rundir.files import (
+    atomic_write_bytes,
+    atomic_write_text,
+    load_npz,
+    prepare_out_dir,
+    prepare_out_file,
+    read_json,
+    read_toml,
+    save_npz,
+    write_json,
+    write_toml,
+)
+from locustjump.rundir.layout import *  # noqa: F403
+from locustjump.rundir.layout import (
+    eval_metrics_path,
+    is_reproduction,
+    is_rules_run,
+    is_run,
+)
+from locustjump.rundir.run import (
+    BestGenome,
+    FrozenGenomes,
+    behaviour_of,
+    generations_done,
+    load_config,
+    load_run,
+    metrics_line,
+    read_checkpoint,
+    read_metrics,
+    truncate_metrics,
+    write_checkpoint,
+    write_config,
+)
+from locustjump.rundir.trajectory import (
+    TRAJECTORY_COLUMNS,
+    trajectory_table,
+    write_trajectory_csv,
+)

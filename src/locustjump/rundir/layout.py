@@ -1,0 +1,51 @@
+"""File and directory names of runs and reproductions (see the package doc)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+CONFIG = "config.toml"
+METRICS = "metrics.csv"
+CHECKPOINT = "checkpoint.npz"
+BEST = "best.npz"
+FITNESS_PNG = "fitness.png"
+FROZEN = "simple.npz"  # the frozen genomes a behaviour builds on
+EVAL = "eval"  # directory
+EVAL_METRICS = "metrics.json"  # in EVAL
+SWEEP = "sweep"  # directory of a behaviour's extra evaluation
+VIDEO = "video.mp4"
+REPORT = "report.html"
+RULES_SUMMARY = "summary.json"
+TRAJECTORY_CSV = "trajectory.csv"
+TRAJECTORY_PNG = "trajectory.png"
+MARKER = "reproduce.toml"  # what makes a directory a reproduction
+RESULTS = "results.md"
+FORMAT = 1  # version of checkpoint.npz / best.npz
+
+METRICS_COLUMNS = (
+    "generation",
+    "best",
+    "mean",
+    "std",
+    "wall_s",
+    "evaluations",
+    "control_steps",
+    "steps_per_s",
+)
+
+
+def is_run(d: Path) -> bool:
+    return (Path(d) / CONFIG).is_file()
+
+
+def is_reproduction(d: Path) -> bool:
+    return (Path(d) / MARKER).is_file()
+
+
+def is_rules_run(d: Path) -> bool:
+    d = Path(d)
+    return (d / RULES_SUMMARY).is_file() and (d / TRAJECTORY_CSV).is_file()
+
+
+def eval_metrics_path(run: Path) -> Path:
+    return Path(run) / EVAL / EVAL_METRICS

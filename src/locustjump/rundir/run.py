@@ -1,0 +1,334 @@
+"""A training run's files: config, genomes, checkpoint, metrics."""
+
+from __future__ import annotations
+
+import hashlib
+import os
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from locustjump.errors import UserError
+from locustjump.rundir.files import (
+    atomic_write_text,
+    load_npz,
+    read_toml,
+    save_npz,
+    write_toml,
+)
+from locustjump.rundir.layout import (
+    BEST,
+    CONFIG,
+    FORMAT,
+    FROZEN,
+    METRICS,
+    METRICS_COLUMNS,
+    is_run,
+)
+
+# --- config ---------------------------------------------------------------------
+
+
+def load_config(path: str | os.PathLike, *, behaviour: str = "kick"):
+    """Read a (possibly partial) TOML config; missing keys take the defaults
+    (``behaviour`` where the file names none)."""
+    from locustjump.config import TrainConfig
+
+    d = read_toml(Path(path))
+    return TrainConfig.from_dict({"behaviour": behaviour, **d}, str(path))
+
+
+def write_config(path: Path, cfg) -> None:
+    header = (
+        f"# locustjump run configuration (config hash {cfg.hash()}).\n"
+        "# Edit a copy and pass it with --config to start a new run.\n"
+    )
+    write_toml(path, cfg.to_dict(), header)
+
+
+# --- genomes --------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class BestGenome:
+    """The content of ``best.npz``."""
+
+    genome: np.ndarray  # (num_params,)
+    fitness: float
+    generation: int
+    behaviour: str
+    config_hash: str
+
+    def save(self, path: Path) -> None:
+        save_npz(
+            path,
+            format=np.array(FORMAT),
+            genome=self.genome,
+            fitness=np.array(self.fitness),
+            generation=np.array(self.generation),
+            behaviour=np.array(self.behaviour),
+            config_hash=np.array(self.config_hash),
+        )
+
+    @classmethod
+    def load(cls, path: str | os.PathLike, num_params: int | None = None) -> BestGenome:
+        """Read and check ``best.npz`` (``UserError`` naming the file if bad)."""
+        path = Path(path)
+        z = load_npz(
+            path,
+            ("format", "genome", "fitness", "generation", "behaviour", "config_hash"),
+        )
+        try:
+            best = cls(
+                np.asarray(z["genome"], dtype=np.float64),
+                float(z["fitness"]),
+                int(z["generation"]),
+                str(z["behaviour"]),
+                str(z["config_hash"]),
+            )
+        except (TypeError, ValueError) as e:
+            raise UserError(f"{path}: malformed genome file ({e})") from None
+        if best.genome.ndim != 1 or not np.isfinite(best.genome).all():
+            raise UserError(f"{path}: genome must be a finite 1-D array")
+        if num_params is not None and best.genome.shape[0] != num_params:
+            raise UserError(
+                f"{path}: genome has {best.genome.shape[0]} genes, the "
+                f"{best.behaviour} controller needs {num_params}"
+            )
+        return best
+
+
+@dataclass(frozen=True)
+class FrozenGenomes:
+    """The frozen networks a behaviour builds on (``DIR/simple.npz``).
+
+    ``genomes`` (k, P) in the order of the behaviour's ``requires``;
+    ``sources`` the run directories they came from and ``hashes`` those runs'
+    config hashes (for the record: the run never reads them again).
+    """
+
+    behaviours: tuple[str, ...]
+    genomes: np.ndarray
+    sources: tuple[str, ...]
+    hashes: tuple[str, ...]
+
+    @property
+    def digest(self) -> str:
+        """16 hex digits identifying the genomes (``simple`` in ``config.toml``)."""
+        data = np.ascontiguousarray(self.genomes, dtype="<f8").tobytes()
+        return hashlib.sha256(data).hexdigest()[:16]
+
+    @classmethod
+    def from_runs(
+        cls, required: tuple[str, ...], dirs: dict[str, Any], model
+    ) -> FrozenGenomes:
+        """Best genomes of the runs ``dirs[name]`` for each name in ``required``;
+        each must hold that behaviour and the creature ``model`` (``UserError``
+        naming the directory otherwise)."""
+        genomes, sources, hashes = [], [], []
+        for name in required:
+            if dirs.get(name) is None:
+                raise UserError(
+                    "this behaviour builds on "
+                    + ", ".join(f"--{r} DIR" for r in required)
+                    + f" (missing --{name})"
+                )
+            d = Path(dirs[name])
+            cfg, _, best = load_run(d)
+            if cfg.behaviour != name:
+                raise UserError(
+                    f"--{name} {d}: holds a {cfg.behaviour!r} run, not {name!r}"
+                )
+            if cfg.model != model:
+                ours = cfg.replace(model=model).to_dict()["model"]
+                diff = [k for k, v in cfg.to_dict()["model"].items() if ours[k] != v]
+                raise UserError(
+                    f"--{name} {d}: its model parameters differ from this run's "
+                    f"({', '.join(diff)})"
+                )
+            genomes.append(best.genome)
+            sources.append(str(d))
+            hashes.append(best.config_hash)
+        return cls(tuple(required), np.stack(genomes), tuple(sources), tuple(hashes))
+
+    def save(self, path: Path) -> None:
+        save_npz(
+            path,
+            format=np.array(FORMAT),
+            behaviours=np.array(self.behaviours),
+            genomes=self.genomes,
+            sources=np.array(self.sources),
+            hashes=np.array(self.hashes),
+        )
+
+    @classmethod
+    def load(cls, path: Path, required: tuple[str, ...], num_params: int):
+        z = load_npz(path, ("format", "behaviours", "genomes", "sources", "hashes"))
+        if tuple(str(b) for b in z["behaviours"]) != tuple(required):
+            raise UserError(f"{path}: not the genomes of {', '.join(required)}")
+        g = np.asarray(z["genomes"], dtype=np.float64)
+        if g.shape != (len(required), num_params) or not np.isfinite(g).all():
+            raise UserError(
+                f"{path}: genomes must be finite, shape ({len(required)}, {num_params})"
+            )
+        return cls(
+            tuple(required),
+            g,
+            tuple(str(x) for x in z["sources"]),
+            tuple(str(x) for x in z["hashes"]),
+        )
+
+
+def behaviour_of(cfg, out: Path):
+    """The behaviour of the run in ``out``; one built on frozen runs reads
+    their genomes from ``simple.npz`` and checks them against the config."""
+    from locustjump.behaviours import behaviour_class, get_behaviour
+
+    cls = behaviour_class(cfg.behaviour)
+    if not cls.requires:
+        return get_behaviour(cfg.behaviour)
+    frozen = FrozenGenomes.load(out / FROZEN, cls.requires, cls.frozen_num_params())
+    if frozen.digest != cfg.simple:
+        raise UserError(
+            f"{out / FROZEN}: its genomes (digest {frozen.digest}) are not the ones "
+            f"{out / CONFIG} names ({cfg.simple or 'none'})"
+        )
+    return get_behaviour(cfg.behaviour, frozen.genomes)
+
+
+def load_run(path: str | os.PathLike):
+    """``(TrainConfig, Behaviour, BestGenome)`` of run directory ``path``."""
+    out = Path(path)
+    if not out.is_dir():
+        raise UserError(f"{out}: no such directory")
+    if not is_run(out):
+        raise UserError(f"{out}: holds no run (no {CONFIG})")
+    cfg = load_config(out / CONFIG)
+    beh = behaviour_of(cfg, out)
+    if not (out / BEST).is_file():
+        raise UserError(f"{out}: no {BEST} yet (the run has not finished a generation)")
+    best = BestGenome.load(out / BEST, beh.controller.num_params)
+    if best.behaviour != cfg.behaviour or best.config_hash != cfg.hash():
+        raise UserError(
+            f"{out / BEST}: belongs to another run ({best.behaviour}, hash "
+            f"{best.config_hash}; {CONFIG}: {cfg.behaviour}, hash {cfg.hash()})"
+        )
+    return cfg, beh, best
+
+
+# --- checkpoint -----------------------------------------------------------------
+
+_CHECKPOINT_KEYS = (
+    "format",
+    "behaviour",
+    "config_hash",
+    "best_genome",
+    "best_fitness",
+    "best_generation",
+    "generation",
+    "metrics_row",
+)
+
+
+def write_checkpoint(
+    path: Path, cfg, best: BestGenome, metrics_row: str, state: dict[str, np.ndarray]
+) -> None:
+    """The optimizer's ``state`` plus the run's best genome and the metrics row
+    of the checkpointed generation (a kill between two writes loses nothing)."""
+    save_npz(
+        path,
+        format=np.array(FORMAT),
+        behaviour=np.array(cfg.behaviour),
+        config_hash=np.array(cfg.hash()),
+        optimizer=np.array(cfg.optimizer.kind),
+        best_genome=best.genome,
+        best_fitness=np.array(best.fitness),
+        best_generation=np.array(best.generation),
+        metrics_row=np.array(metrics_row),
+        **state,
+    )
+
+
+def read_checkpoint(path: Path, cfg, num_params: int):
+    """``(best, metrics_row, state)`` of ``checkpoint.npz``, checked against the
+    configuration ``cfg`` (``UserError`` naming the file). Checkpoints written
+    before optimizers were pluggable name none: they are the RCGA's."""
+    z = load_npz(path, _CHECKPOINT_KEYS)
+    if str(z["behaviour"]) != cfg.behaviour:
+        raise UserError(
+            f"{path}: holds a {str(z['behaviour'])!r} run, not {cfg.behaviour!r}"
+        )
+    kind = str(z.get("optimizer", "rcga"))
+    if kind != cfg.optimizer.kind:
+        raise UserError(
+            f"{path}: was written by the {kind!r} optimizer, the run's "
+            f"{CONFIG} names {cfg.optimizer.kind!r}"
+        )
+    if str(z["config_hash"]) != cfg.hash():
+        raise UserError(
+            f"{path}: was written by another configuration (hash "
+            f"{z['config_hash']}, {CONFIG} has {cfg.hash()})"
+        )
+    best = BestGenome(
+        np.asarray(z["best_genome"], dtype=np.float64),
+        float(z["best_fitness"]),
+        int(z["best_generation"]),
+        cfg.behaviour,
+        cfg.hash(),
+    )
+    if best.genome.shape != (num_params,):
+        raise UserError(f"{path}: best_genome has the wrong length")
+    skip = set(_CHECKPOINT_KEYS) - {"generation"} | {"optimizer"}
+    state = {k: v for k, v in z.items() if k not in skip}
+    return best, str(z["metrics_row"]), state
+
+
+# --- metrics ----------------------------------------------------------------------
+
+
+def read_metrics(path: Path) -> np.ndarray:
+    """metrics.csv as a structured array (one record per generation)."""
+    try:
+        return np.atleast_1d(
+            np.genfromtxt(path, delimiter=",", names=True, dtype=None, ndmin=1)
+        )
+    except (OSError, ValueError) as e:
+        raise UserError(f"{path}: not a readable metrics file ({e})") from None
+
+
+def generations_done(run: Path) -> int:
+    m = read_metrics(Path(run) / METRICS)
+    return int(m["generation"][-1]) if len(m) else 0
+
+
+def metrics_line(row: list, wall: float, rate: float) -> str:
+    g, best, mean, std, evaluations, steps = row
+    cols = [g, best, mean, std, round(wall, 4), evaluations, steps, round(rate, 1)]
+    return ",".join(map(str, cols)) + "\n"
+
+
+def truncate_metrics(path: Path, generation: int, last_row: str) -> None:
+    """Keep the header and the rows of generations 1..``generation``; the row of
+    ``generation`` itself is ``last_row`` (from the checkpoint) if missing."""
+    lines = path.read_text().splitlines(keepends=True) if path.exists() else []
+    header = ",".join(METRICS_COLUMNS) + "\n"
+    keep = []
+    for n, ln in enumerate(lines[1:], start=2):
+        if not ln.strip():
+            continue
+        try:
+            g = int(ln.split(",")[0])
+        except ValueError:
+            raise UserError(f"{path}: line {n} is malformed: {ln.strip()!r}") from None
+        if g <= generation and ln.endswith("\n"):
+            keep.append(ln)
+    if generation > 0 and len(keep) == generation - 1:
+        keep.append(last_row)
+    if len(keep) != generation:
+        raise UserError(
+            f"{path}: holds {len(keep)} rows for the {generation} generations of "
+            f"the checkpoint"
+        )
+    atomic_write_text(path, header + "".join(keep))
