@@ -21,7 +21,7 @@ import itertools
 
 import numpy as np
 
-from locustjump import analysis
+from locustjump import analysis, names
 from locustjump import model as lm
 from locustjump.rollout import StartStates, rollout
 from locustjump.rules import RuleController
@@ -98,7 +98,7 @@ def main() -> None:
     for k in STRUT_STIFFNESSES:
         ps = p.replace(strut_stiffness=k)
         m = lm.load_model(ps)
-        mid = m.jnt_qposadr[m.joint("mid_l").id]
+        mid = m.jnt_qposadr[m.joint(names.MID_LEGS[0]).id]
         sag = np.degrees(m.key(lm.READY_KEY).qpos[mid])
         qpos, up_z = run(ps, RuleController.for_model(ps))
         for i, ct in enumerate(CHANGE_TIMES):

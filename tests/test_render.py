@@ -7,7 +7,7 @@ import shutil
 import numpy as np
 import pytest
 
-from locustjump import render
+from locustjump import names, render
 from locustjump.cli import main
 
 iio = pytest.importorskip("imageio.v2", reason="extra locustjump[video] not installed")
@@ -60,7 +60,9 @@ def test_render_rules_mp4(can_render, rules_dir, capsys):
 
 
 def test_render_gif_side_camera(can_render, rules_dir):
-    out = render.render_run(rules_dir, rules_dir / "jump.gif", fps=10, camera="side")
+    out = render.render_run(
+        rules_dir, rules_dir / "jump.gif", fps=10, camera=names.CAMERA_SIDE
+    )
     frames = _frames(out)
     assert len(frames) == 11 and frames[0].shape[:2] == (240, 320)
 

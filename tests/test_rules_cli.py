@@ -4,7 +4,7 @@ import mujoco
 import numpy as np
 import pytest
 
-from locustjump import cli
+from locustjump import cli, names
 from locustjump import model as lm
 from locustjump.rules import run_rules
 from locustjump.rundir import TRAJECTORY_COLUMNS
@@ -106,7 +106,8 @@ def test_sprung_struts_are_an_option_and_leave_the_default_alone(tmp_path, capsy
         "hip_l", "knee_l", "hip_r", "knee_r",
     ]  # fmt: skip
     # settled at the start state: the middle legs sag a little and hold
-    sag = np.degrees(m.key(lm.READY_KEY).qpos[m.jnt_qposadr[m.joint("mid_l").id]])
+    mid = m.jnt_qposadr[m.joint(names.MID_LEGS[0]).id]
+    sag = np.degrees(m.key(lm.READY_KEY).qpos[mid])
     assert 0.1 < sag < p.strut_swing
     out = tmp_path / "rules"
     argv = ["rules", "--steps", "600", "--strut-stiffness", "1e-5", "--out", str(out)]

@@ -22,6 +22,7 @@ from locustjump.cli import main
 from locustjump.config import TrainConfig
 from locustjump.errors import UserError
 from locustjump.evaluate import evaluate_run
+from locustjump.optimizers import params_class
 from locustjump.optimizers.rcga import RCGAParams
 from locustjump.train import train
 
@@ -89,14 +90,15 @@ def test_thread_count_does_not_change_the_result(full_run, tmp_path):
     assert_same_run(full_run, out)
 
 
-def test_resume_after_a_kill_is_bit_identical(tmp_path):
-    cfg = SMALL.replace(generations=40)
+@pytest.mark.parametrize("kind", ["rcga", "cma", "random"])
+def test_resume_after_a_kill_is_bit_identical(tmp_path, kind):
+    cfg = SMALL.replace(generations=40, optimizer=params_class(kind)(population=6))
     ref = tmp_path / "ref"
     train(cfg, ref, progress=False)
     out = tmp_path / "killed"
     cmd = [sys.executable, "-m", "locustjump.cli", "train", "kick", "--population",
            "6", "--seed", "5", "--generations", "40", "--threads", "1", "--quiet",
-           "--out", str(out)]  # fmt: skip
+           "--optimizer", kind, "--out", str(out)]  # fmt: skip
     proc = subprocess.Popen(cmd)
     deadline = time.monotonic() + 120
     while time.monotonic() < deadline:

@@ -38,7 +38,7 @@ from locustjump import names
 
 CONTROL_DT = 1.0 / 120.0  # (Seconds) one control step, the paper's "step"
 SETTLE_TIME = 1.0  # (Seconds) settling before t = 0
-READY_KEY = "ready"  # keyframe name of the settled start state (Fig. 4)
+READY_KEY = names.READY_KEY  # keyframe of the settled start state (Fig. 4)
 
 
 @dataclass(frozen=True)
@@ -196,7 +196,7 @@ def to_mjcf(p: LocustParams = LocustParams(), *, keyframe: bool = True) -> str:
     lo_h, hi_h = p.hip_range
     lo_k, hi_k = p.knee_range
 
-    def strut(side: str, sign: float, nm: str, attach, direction) -> str:
+    def strut(nm: str, sign: float, attach, direction) -> str:
         a = np.array(attach) * s * np.array([1, sign, 1])
         d = _unit(direction) * np.array([1, sign, 1])
         # long enough for the tip sphere to touch the ground when standing
@@ -204,62 +204,64 @@ def to_mjcf(p: LocustParams = LocustParams(), *, keyframe: bool = True) -> str:
         b = a + d * length
         size = f'size="{p.strut_radius * s:.9g}"'
         if p.strut_stiffness == 0:
-            return (
-                f'<geom name="{nm}_{side}" class="strut" '
-                f'fromto="{_fmt(*a, *b)}" {size}/>'
-            )
+            return f'<geom name="{nm}" class="strut" fromto="{_fmt(*a, *b)}" {size}/>'
         axis = np.cross(d, (0.0, 0.0, 1.0))
         return (
-            f'<body name="{nm}_{side}" pos="{_fmt(*a)}">'
-            f'<joint name="{nm}_{side}" class="strut" axis="{_fmt(*_unit(axis))}"/>'
-            f'<geom name="{nm}_{side}" class="strut" '
+            f'<body name="{nm}" pos="{_fmt(*a)}">'
+            f'<joint name="{nm}" class="strut" axis="{_fmt(*_unit(axis))}"/>'
+            f'<geom name="{nm}" class="strut" '
             f'fromto="0 0 0 {_fmt(*(b - a))}" {size}/></body>'
         )
 
-    def hind_leg(side: str, sign: float) -> str:
+    def hind_leg(i: int, sign: float) -> str:
         hx, hy, hz = np.array(p.hip_pos) * s * np.array([1, sign, 1])
         lf, lt = p.femur_length * s, p.tibia_length * s
         return f"""
-      <body name="femur_{side}" pos="{_fmt(hx, hy, hz)}">
-        <joint name="hip_{side}" class="hind" range="{lo_h} {hi_h}"/>
-        <geom name="femur_{side}" class="leg" fromto="0 0 0 0 0 {-lf:.9g}"
+      <body name="{names.FEMURS[i]}" pos="{_fmt(hx, hy, hz)}">
+        <joint name="{names.HIP_JOINTS[i]}" class="hind" range="{lo_h} {hi_h}"/>
+        <geom name="{names.FEMURS[i]}" class="leg" fromto="0 0 0 0 0 {-lf:.9g}"
               size="{p.femur_radius * s:.9g}"/>
-        <body name="tibia_{side}" pos="0 0 {-lf:.9g}">
-          <joint name="knee_{side}" class="hind" range="{lo_k} {hi_k}"/>
-          <geom name="tibia_{side}" class="leg" fromto="0 0 0 0 0 {lt:.9g}"
+        <body name="{names.TIBIAE[i]}" pos="0 0 {-lf:.9g}">
+          <joint name="{names.KNEE_JOINTS[i]}" class="hind" range="{lo_k} {hi_k}"/>
+          <geom name="{names.TIBIAE[i]}" class="leg" fromto="0 0 0 0 0 {lt:.9g}"
                 size="{p.tibia_radius * s:.9g}"/>
-          <geom name="tarsus_{side}" class="leg" type="sphere" pos="0 0 {lt:.9g}"
+          <geom name="{names.TARSI[i]}" class="leg" type="sphere" pos="0 0 {lt:.9g}"
                 size="{p.tarsus_radius * s:.9g}"/>
-          <site name="tarsus_site_{side}" type="sphere" pos="0 0 {lt:.9g}"
+          <site name="{names.TARSUS_SITES[i]}" type="sphere" pos="0 0 {lt:.9g}"
                 size="{1.5 * p.tarsus_radius * s:.9g}" rgba="1 0.3 0.3 0.3"/>
         </body>
       </body>"""
 
     legs = "".join(
-        strut(side, sign, "fore", p.fore_attach, p.fore_dir)
-        + strut(side, sign, "mid", p.mid_attach, p.mid_dir)
-        + hind_leg(side, sign)
-        for side, sign in (("l", 1.0), ("r", -1.0))
+        strut(names.FORE_LEGS[i], sign, p.fore_attach, p.fore_dir)
+        + strut(names.MID_LEGS[i], sign, p.mid_attach, p.mid_dir)
+        + hind_leg(i, sign)
+        for i, sign in enumerate((1.0, -1.0))
     )
     # Only the creature against the floor collides, as explicit pairs (no
     # broad phase: mj_step 6.1 -> 5.4 us, bit-identical trajectories), in
     # geom-id order: the body's own geoms, then the hind legs'.
-    creature = ["body", "head"]
-    creature += [f"{nm}_{side}" for side in names.SIDES for nm in ("fore", "mid")]
+    creature = [names.BODY, names.HEAD]
     creature += [
-        f"{part}_{side}"
-        for side in names.SIDES
-        for part in ("femur", "tibia", "tarsus")
+        leg
+        for pair in zip(names.FORE_LEGS, names.MID_LEGS, strict=True)
+        for leg in pair
+    ]
+    creature += [
+        geom
+        for i in range(len(names.SIDES))
+        for geom in (names.FEMURS[i], names.TIBIAE[i], names.TARSI[i])
     ]
     pairs = "".join(
         f'\n    <pair geom1="{names.FLOOR}" geom2="{g}"/>' for g in creature
     )
     servos = "".join(
-        f'<position name="servo_{j}" joint="{j}" class="servo"/>'
-        for j in names.ACTUATED_JOINTS
+        f'<position name="{a}" joint="{j}" class="servo"/>'
+        for a, j in zip(names.ACTUATORS, names.ACTUATED_JOINTS, strict=True)
     )
     touch = "".join(
-        f'<touch name="touch_{side}" site="tarsus_site_{side}"/>' for side in "lr"
+        f'<touch name="{t}" site="{site}"/>'
+        for t, site in zip(names.TOUCH_SENSORS, names.TARSUS_SITES, strict=True)
     )
     strut_joint = (
         ""
@@ -271,6 +273,7 @@ def to_mjcf(p: LocustParams = LocustParams(), *, keyframe: bool = True) -> str:
     )
     bl = p.body_length
     head_x = (p.body_half_length + p.head_radius) * s
+    track = names.CAMERA_TRACK
     xml = f"""<mujoco model="locust">
   <compiler angle="degree" autolimits="true"/>
   <option timestep="{p.timestep:.12g}" integrator="{p.integrator}" cone="pyramidal"
@@ -312,16 +315,16 @@ def to_mjcf(p: LocustParams = LocustParams(), *, keyframe: bool = True) -> str:
   </default>
   <worldbody>
     <light name="sun" pos="0 0 {10 * bl:.9g}" dir="0 0 -1" directional="true"/>
-    <geom name="floor" type="plane" size="0 0 {0.05 * bl:.9g}" material="grid"/>
-    <camera name="side" pos="{4 * bl:.9g} {-9 * bl:.9g} {2 * bl:.9g}"
+    <geom name="{names.FLOOR}" type="plane" size="0 0 {0.05 * bl:.9g}" material="grid"/>
+    <camera name="{names.CAMERA_SIDE}" pos="{4 * bl:.9g} {-9 * bl:.9g} {2 * bl:.9g}"
             xyaxes="1 0 0 0 0.2 1"/>
-    <body name="body" pos="0 0 {h0:.9g}">
-      <freejoint name="root"/>
-      <camera name="track" mode="trackcom" pos="0 {-3 * bl:.9g} {0.6 * bl:.9g}"
+    <body name="{names.BODY}" pos="0 0 {h0:.9g}">
+      <freejoint name="{names.ROOT_JOINT}"/>
+      <camera name="{track}" mode="trackcom" pos="0 {-3 * bl:.9g} {0.6 * bl:.9g}"
               xyaxes="1 0 0 0 0.2 1"/>
-      <geom name="body" type="capsule" fromto="{-p.body_half_length * s:.9g} 0 0
+      <geom name="{names.BODY}" type="capsule" fromto="{-p.body_half_length * s:.9g} 0 0
             {p.body_half_length * s:.9g} 0 0" size="{p.body_radius * s:.9g}"/>
-      <geom name="head" type="sphere" pos="{head_x:.9g} 0 0"
+      <geom name="{names.HEAD}" type="sphere" pos="{head_x:.9g} 0 0"
             size="{p.head_radius * s:.9g}"/>
       {legs}
     </body>

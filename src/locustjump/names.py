@@ -1,24 +1,33 @@
-"""Names of every MJCF element that Python reads (one place, no scattered strings)."""
+"""Names of the MJCF elements: the model writes them from here and Python reads
+them from here (one place, no scattered strings). Per-side tuples are in
+``SIDES`` order."""
 
 BODY = "body"  #: the thorax/abdomen; its frame origin is the body centre
+HEAD = "head"
 ROOT_JOINT = "root"  #: the free joint of the body
 FLOOR = "floor"
+READY_KEY = "ready"  #: keyframe of the settled start state (Fig. 4)
 
 SIDES = ("l", "r")  #: left (+y) and right (-y)
+
+#: Passive fore and middle legs: a geom, or with sprung struts a body, hinge
+#: and geom, all of this name.
+FORE_LEGS = ("fore_l", "fore_r")
+MID_LEGS = ("mid_l", "mid_r")
 
 # Hind legs: body–femur ("hip") and femur–tibia ("knee") hinges, both actuated.
 HIP_JOINTS = ("hip_l", "hip_r")
 KNEE_JOINTS = ("knee_l", "knee_r")
 #: The four actuated joints in the paper's input order I1–I4.
-ACTUATED_JOINTS = ("hip_l", "knee_l", "hip_r", "knee_r")
+ACTUATED_JOINTS = (HIP_JOINTS[0], KNEE_JOINTS[0], HIP_JOINTS[1], KNEE_JOINTS[1])
 #: Position servos, one per actuated joint, same order.
 ACTUATORS = tuple(f"servo_{j}" for j in ACTUATED_JOINTS)
 
-FEMUR_BODIES = ("femur_l", "femur_r")
-TIBIA_BODIES = ("tibia_l", "tibia_r")
-TARSUS_GEOMS = ("tarsus_l", "tarsus_r")
+FEMURS = ("femur_l", "femur_r")  #: bodies and their geoms
+TIBIAE = ("tibia_l", "tibia_r")  #: bodies and their geoms
+TARSI = ("tarsus_l", "tarsus_r")  #: sphere geoms at the tibia tips
 TARSUS_SITES = ("tarsus_site_l", "tarsus_site_r")
-TOUCH_SENSORS = ("touch_l", "touch_r")
+TOUCH_SENSORS = ("touch_l", "touch_r")  #: on the tarsus sites (input I5)
 
-CAMERA_TRACK = "track"
-CAMERA_SIDE = "side"
+CAMERA_TRACK = "track"  #: follows the body from the side
+CAMERA_SIDE = "side"  #: fixed, looking at the start

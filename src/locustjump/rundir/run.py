@@ -227,9 +227,12 @@ _CHECKPOINT_KEYS = (
     "best_genome",
     "best_fitness",
     "best_generation",
-    "generation",
     "metrics_row",
 )
+#: keys of the optimizer's own state, prefixed so they never clash with ours
+_STATE_PREFIX = "opt_"
+#: what checkpoints written before optimizers were pluggable hold (the RCGA's)
+_RCGA_V0_STATE = ("generation", "population", "fitness", "rng_state")
 
 
 def write_checkpoint(
@@ -247,7 +250,7 @@ def write_checkpoint(
         best_fitness=np.array(best.fitness),
         best_generation=np.array(best.generation),
         metrics_row=np.array(metrics_row),
-        **state,
+        **{_STATE_PREFIX + k: v for k, v in state.items()},
     )
 
 
@@ -280,8 +283,14 @@ def read_checkpoint(path: Path, cfg, num_params: int):
     )
     if best.genome.shape != (num_params,):
         raise UserError(f"{path}: best_genome has the wrong length")
-    skip = set(_CHECKPOINT_KEYS) - {"generation"} | {"optimizer"}
-    state = {k: v for k, v in z.items() if k not in skip}
+    if "optimizer" in z:
+        n = len(_STATE_PREFIX)
+        state = {k[n:]: v for k, v in z.items() if k.startswith(_STATE_PREFIX)}
+    else:
+        missing = [k for k in _RCGA_V0_STATE if k not in z]
+        if missing:
+            raise UserError(f"{path}: missing {', '.join(missing)}")
+        state = {k: z[k] for k in _RCGA_V0_STATE}
     return best, str(z["metrics_row"]), state
 
 

@@ -1,0 +1,211 @@
+"""The commands of ``locustjump``: each a few lines over the public API."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+
+from locustjump import model as lm
+from locustjump import rundir
+from locustjump.errors import UserError
+
+
+def _backend(args: argparse.Namespace):
+    from locustjump.backends import make_backend
+
+    return make_backend(args.backend, threads=args.threads)
+
+
+def cmd_model(args: argparse.Namespace) -> int:
+    out = rundir.prepare_out_file(args.out, force=args.force)
+    p = lm.LocustParams(scale=args.scale, strut_stiffness=args.strut_stiffness)
+    rundir.atomic_write_text(out, lm.to_mjcf(p))
+    print(f"wrote {out} (scale {p.scale:g}, body length {p.body_length:.3g} m)")
+    return 0
+
+
+def cmd_rules(args: argparse.Namespace) -> int:
+    from locustjump.rules import write_rules_run
+
+    out = rundir.prepare_out_dir(args.out, force=args.force)
+    p = lm.LocustParams(strut_stiffness=args.strut_stiffness)
+    run = write_rules_run(
+        out, args.change_time, args.steps, model_params=p, backend=_backend(args)
+    )
+    apexes = ", ".join(f"{j.apex_height:.2f}" for j in run.jumps) or "none"
+    print(f"{len(run.jumps)} jumps in {args.steps} steps; apex heights [m]: {apexes}")
+    if run.unstable:
+        print("warning: the simulation went unstable", file=sys.stderr)
+    print(f"wrote {out}/trajectory.csv, trajectory.png and summary.json")
+    return 0
+
+
+def cmd_train(args: argparse.Namespace) -> int:
+    from locustjump.behaviours import behaviour_class, behaviour_names
+    from locustjump.train import resolve_config, train
+
+    cfg = resolve_config(
+        args.behaviour,
+        args.out,
+        resume=args.resume,
+        config=args.config,
+        optimizer=args.optimizer,
+        seed=args.seed,
+        population=args.population,
+        generations=args.generations,
+    )
+    requires = behaviour_class(args.behaviour).requires
+    dirs = {name: getattr(args, frozen_dest(name)) for name in frozen_options()}
+    given = [f"--{k}" for k, v in dirs.items() if v is not None and k not in requires]
+    if given:
+        raise UserError(
+            f"{', '.join(given)}: only for train "
+            + " or ".join(b for b in behaviour_names() if behaviour_class(b).requires)
+            + f" ({args.behaviour} builds on no other run)"
+        )
+    frozen = None
+    if requires and (not args.resume or any(dirs[r] is not None for r in requires)):
+        frozen = rundir.FrozenGenomes.from_runs(requires, dirs, cfg.model)
+    res = train(
+        cfg,
+        args.out,
+        resume=args.resume,
+        backend=_backend(args),
+        progress=not args.quiet,
+        frozen=frozen,
+    )
+    stopped = f"; the optimizer stopped: {res.stopped}" if res.stopped else ""
+    print(
+        f"{cfg.behaviour}: {res.generation} generations, best fitness "
+        f"{res.best.fitness:.6g} (generation {res.best.generation}){stopped}; "
+        f"wrote {res.out}"
+    )
+    return 0
+
+
+def cmd_evaluate(args: argparse.Namespace) -> int:
+    from locustjump.evaluate import evaluate_run
+
+    ev = evaluate_run(args.run, backend=_backend(args))
+    if args.json:
+        print(json.dumps(ev.to_dict(), indent=2))
+    else:
+        status = "matches training" if ev.matches else "DIFFERS from training"
+        print(
+            f"{ev.behaviour}: fitness {ev.fitness:.10g} "
+            f"(recorded {ev.recorded_fitness:.10g}: {status})"
+        )
+        width = max(map(len, ev.metrics))
+        for k, v in ev.metrics.items():
+            text = f"{v:.4g}" if isinstance(v, float) else str(v)
+            print(f"  {k:<{width}}  {text}")
+        print("wrote " + ", ".join(str(f) for f in ev.files))
+    if not ev.matches:
+        print(
+            "locustjump: error: re-simulated fitness differs from the recorded one",
+            file=sys.stderr,
+        )
+        return 1
+    return 0
+
+
+def cmd_sweep_getup(args: argparse.Namespace) -> int:
+    from locustjump.behaviours.getup import sweep_angles, sweep_run
+
+    angles = sweep_angles(args.step_deg, args.from_deg, args.to_deg)
+    sw, files = sweep_run(args.run, angles, backend=_backend(args))
+    n_train = int(sw.training.sum())
+    print(
+        f"got up from {sw.got_up} of {sw.n_sweep} (the paper: 65 of 180); "
+        f"training states: {int(sw.success[sw.training].sum())} of {n_train}"
+    )
+    print("wrote " + " and ".join(str(f) for f in files))
+    return 0
+
+
+def cmd_reproduce(args: argparse.Namespace) -> int:
+    from locustjump.reproduce import reproduce
+
+    opt = "" if args.optimizer == "rcga" else f" --optimizer {args.optimizer}"
+    path = reproduce(
+        args.out,
+        budget=args.budget,
+        seed=args.seed,
+        optimizer=args.optimizer,
+        backend=_backend(args),
+        progress=not args.quiet,
+        command=f"locustjump reproduce --budget {args.budget} --seed {args.seed}"
+        f"{opt} --out {args.out}",
+        videos=not args.no_videos,
+        monolithic=not args.no_monolithic,
+    )
+    print(path.read_text().split("## Beyond")[0].rstrip())
+    return 0
+
+
+def cmd_replay(args: argparse.Namespace) -> int:
+    from locustjump.behaviours import behaviour_class
+    from locustjump.reproduce import replay
+
+    failed = 0
+    for stage, ev in replay(
+        args.dir, args.out, force=args.force, backend=_backend(args)
+    ):
+        status = "matches" if ev.matches else "DIFFERS from"
+        failed += not ev.matches
+        keys = behaviour_class(stage).headline
+        shown = ", ".join(f"{k} {ev.metrics.get(k)}" for k in keys)
+        print(f"[{stage}] fitness {ev.fitness:.6g} ({status} the record); {shown}")
+    print(f"wrote {args.out}/<stage>/ (figures and trajectories)")
+    if failed:
+        print(
+            f"locustjump: error: {failed} stage(s) re-simulated to another fitness",
+            file=sys.stderr,
+        )
+        return 1
+    return 0
+
+
+def cmd_render(args: argparse.Namespace) -> int:
+    from locustjump.render import render_run
+
+    out = render_run(
+        args.dir,
+        args.out,
+        fps=args.fps,
+        camera=args.camera,
+        force=args.force,
+        progress=not args.quiet,
+        backend=_backend(args),
+    )
+    print(f"wrote {out}")
+    return 0
+
+
+def cmd_view(args: argparse.Namespace) -> int:
+    from locustjump.render import view
+
+    view(args.dir, duration=args.duration)
+    return 0
+
+
+def cmd_report(args: argparse.Namespace) -> int:
+    from locustjump.report import write_report
+
+    print(f"wrote {write_report(args.dir, backend=_backend(args))}")
+    return 0
+
+
+def frozen_options() -> tuple[str, ...]:
+    """Every run some behaviour builds on (``--kick DIR`` ...), in order."""
+    from locustjump.behaviours import behaviour_class, behaviour_names
+
+    seen: dict[str, None] = {}
+    for name in behaviour_names():
+        seen.update(dict.fromkeys(behaviour_class(name).requires))
+    return tuple(seen)
+
+
+def frozen_dest(option: str) -> str:
+    return "frozen_" + option.replace("-", "_")

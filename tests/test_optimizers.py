@@ -1,0 +1,224 @@
+"""The optimizer protocol: each optimizer, plugging one in, and bad input."""
+
+import dataclasses
+from typing import Any, ClassVar
+
+import numpy as np
+import pytest
+
+from locustjump import rundir
+from locustjump.cli import main
+from locustjump.config import TrainConfig
+from locustjump.optimizers import _REGISTRY as OPTIMIZERS
+from locustjump.optimizers import (
+    CMAES,
+    RCGA,
+    CMAParams,
+    Optimizer,
+    RandomSearch,
+    RandomSearchParams,
+    RCGAParams,
+    make_optimizer,
+    optimizer_kinds,
+    register,
+)
+from locustjump.train import train
+
+KINDS = {"rcga": RCGAParams, "cma": CMAParams, "random": RandomSearchParams}
+
+
+def _sphere(x: np.ndarray) -> np.ndarray:
+    return -np.sum((x - 0.3) ** 2, axis=1)  # maximised at 0.3
+
+
+def _run(opt: Optimizer, generations: int) -> list[np.ndarray]:
+    asked = []
+    for _ in range(generations):
+        x = opt.ask()
+        asked.append(x)
+        opt.tell(_sphere(x))
+    return asked
+
+
+@pytest.mark.parametrize("kind", list(KINDS))
+def test_every_optimizer_follows_the_protocol(kind):
+    params = KINDS[kind](population=8)
+    opt = make_optimizer(params, 5, seed=3)
+    asked = _run(opt, 30)
+    assert isinstance(opt, Optimizer) and kind in optimizer_kinds()
+    assert all(x.shape[1] == 5 for x in asked)
+    assert opt.generation == 30 and opt.stop() is None
+    # best is the best told so far, and the optimizer improved on its start
+    told = np.concatenate([_sphere(x) for x in asked])
+    assert opt.best_fitness == told.max() == _sphere(opt.best[None])[0]
+    assert opt.best_fitness > _sphere(asked[0]).max()
+
+
+@pytest.mark.parametrize("kind", list(KINDS))
+def test_same_seed_same_genomes_and_state_round_trip(kind):
+    params = KINDS[kind](population=8)
+    a, b = make_optimizer(params, 5, 7), make_optimizer(params, 5, 7)
+    for xa, xb in zip(_run(a, 10), _run(b, 10), strict=True):
+        np.testing.assert_array_equal(xa, xb)
+    # restored from its arrays (as in checkpoint.npz), it goes on identically
+    c = make_optimizer(params, 5, 7)
+    c.load_state({k: np.asarray(v) for k, v in a.state().items()})
+    for xa, xc in zip(_run(a, 5), _run(c, 5), strict=True):
+        np.testing.assert_array_equal(xa, xc)
+    assert c.best_fitness == a.best_fitness
+    other = make_optimizer(params, 5, 8)
+    assert not np.array_equal(other.ask(), make_optimizer(params, 5, 7).ask())
+
+
+def test_cma_minimises_minus_fitness_and_leaves_global_numpy_alone():
+    np.random.seed(0)
+    before = np.random.get_state()[1].copy()
+    opt = CMAES(10, CMAParams(population=10, sigma0=0.5), seed=1)
+    _run(opt, 60)
+    assert opt.best_fitness > -0.01  # converged towards the maximum
+    np.testing.assert_array_equal(np.random.get_state()[1], before)
+
+
+def test_rcga_and_random_search_are_the_registered_classes():
+    assert isinstance(make_optimizer(RCGAParams(), 3, 0), RCGA)
+    assert isinstance(make_optimizer(RandomSearchParams(), 3, 0), RandomSearch)
+
+
+def test_cma_run_trains_resumes_and_records_its_optimizer(tmp_path):
+    cfg = TrainConfig(generations=3, optimizer=CMAParams(population=6), seed=2)
+    out = tmp_path / "cma"
+    train(cfg, out, progress=False, stop_after=1)
+    train(cfg, out, progress=False, resume=True)
+    whole = tmp_path / "whole"
+    train(cfg, whole, progress=False)
+    for name in (rundir.BEST, rundir.CHECKPOINT):
+        with np.load(out / name) as za, np.load(whole / name) as zb:
+            for k in set(za.files) - {"metrics_row"}:
+                np.testing.assert_array_equal(za[k], zb[k])
+    text = (out / rundir.CONFIG).read_text()
+    assert '[optimizer]\nkind = "cma"' in text
+    assert rundir.load_config(out / rundir.CONFIG) == cfg
+    assert cfg.hash() != cfg.replace(optimizer=RCGAParams(population=6)).hash()
+
+
+# --- a user's own optimizer (the README example) ------------------------------
+
+
+@dataclasses.dataclass(frozen=True)
+class HillClimbParams:
+    kind: ClassVar[str] = "hillclimb"
+    population: int = 8
+    step: float = 0.1
+
+    def replace(self, **changes: Any) -> "HillClimbParams":
+        return dataclasses.replace(self, **changes)
+
+
+class HillClimb:
+    """Samples around the best genome so far."""
+
+    Params = HillClimbParams
+
+    def __init__(self, num_params, params, seed):
+        self.params, self.rng = params, np.random.default_rng(seed)
+        self.generation, self.fitness = 0, np.empty(0)
+        self.best, self.best_fitness = np.zeros(num_params), -np.inf
+
+    def ask(self):
+        noise = self.rng.normal(0, self.params.step, (self.params.population, 1))
+        self._x = self.best + noise * np.ones_like(self.best)
+        return self._x
+
+    def tell(self, fitness):
+        i = int(np.argmax(fitness))
+        if fitness[i] > self.best_fitness:
+            self.best, self.best_fitness = self._x[i].copy(), float(fitness[i])
+        self.fitness, self.generation = np.asarray(fitness), self.generation + 1
+
+    def stop(self):
+        return None
+
+    def state(self):
+        return {"generation": np.array(self.generation), "best": self.best,
+                "best_fitness": np.array(self.best_fitness),
+                "fitness": self.fitness,
+                "rng": np.array(str(self.rng.bit_generator.state))}  # fmt: skip
+
+    def load_state(self, s):
+        import ast
+
+        self.generation, self.best = int(s["generation"]), np.array(s["best"])
+        self.best_fitness, self.fitness = float(s["best_fitness"]), s["fitness"]
+        self.rng.bit_generator.state = ast.literal_eval(str(s["rng"]))
+
+
+def test_a_plugged_optimizer_trains_and_resumes(tmp_path, monkeypatch):
+    monkeypatch.setitem(OPTIMIZERS, "hillclimb", HillClimb)
+    register(HillClimb)
+    cfg = TrainConfig(generations=3, optimizer=HillClimbParams(), seed=1)
+    train(cfg, tmp_path / "a", progress=False, stop_after=2)
+    r = train(cfg, tmp_path / "a", progress=False, resume=True)
+    assert r.generation == 3
+    argv = ["train", "kick", "--optimizer", "hillclimb", "--generations", "3",
+            "--seed", "1", "--quiet", "--out", str(tmp_path / "b")]  # fmt: skip
+    assert main(argv) == 0
+    a = rundir.BestGenome.load(tmp_path / "a" / rundir.BEST)
+    b = rundir.BestGenome.load(tmp_path / "b" / rundir.BEST)
+    np.testing.assert_array_equal(a.genome, b.genome)
+
+
+# --- bad input ---------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("argv", "needle"),
+    [
+        (["train", "kick", "--optimizer", "adam"], "--optimizer"),
+        (["train", "kick", "--backend", "mpi"], "--backend"),
+        (["reproduce", "--optimizer", "adam"], "--optimizer"),
+        (["evaluate", "x", "--backend", "gpu"], "--backend"),
+    ],
+)
+def test_unknown_optimizer_or_backend(tmp_path, capsys, argv, needle):
+    out = tmp_path / "out"
+    with pytest.raises(SystemExit) as e:
+        main([*argv, "--out", str(out)] if argv[0] != "evaluate" else argv)
+    err = capsys.readouterr().err
+    assert e.value.code == 2 and needle in err and len(err.splitlines()) == 1
+    assert not out.exists()
+
+
+@pytest.mark.parametrize(
+    ("text", "match"),
+    [
+        ('[optimizer]\nkind = "cma"\nalpha = 1\n', "optimizer.alpha"),
+        ('[optimizer]\nkind = "cma"\nsigma0 = "big"\n', "optimizer.sigma0"),
+        ('[optimizer]\nkind = "sgd"\n', "unknown optimizer 'sgd'"),
+        ("[optimizer]\nkind = 3\n", "optimizer.kind"),
+        ('[optimizer]\nkind = "cma"\nsigma0 = -1.0\n', "sigma0"),
+        ('[optimizer]\nkind = "cma"\n[rcga]\npopulation = 4\n', "not both"),
+    ],
+)
+def test_bad_optimizer_table(tmp_path, capsys, text, match):
+    cfg = tmp_path / "c.toml"
+    cfg.write_text(text)
+    out = tmp_path / "run"
+    assert main(["train", "kick", "--config", str(cfg), "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert match in err and len(err.splitlines()) == 1
+    assert not out.exists()
+
+
+def test_resume_with_another_optimizer_is_refused(tmp_path, capsys):
+    out = tmp_path / "run"
+    argv = ["train", "kick", "--population", "4", "--generations", "1", "--quiet",
+            "--out", str(out)]  # fmt: skip
+    assert main(argv) == 0
+    before = {p.name: p.read_bytes() for p in out.iterdir() if p.is_file()}
+    capsys.readouterr()
+    code = main(["train", "kick", "--resume", "--optimizer", "cma", "--generations",
+                 "2", "--quiet", "--out", str(out)])  # fmt: skip
+    err = capsys.readouterr().err
+    assert code == 2 and "--optimizer cma" in err and "rcga" in err
+    assert len(err.splitlines()) == 1
+    assert {p.name: p.read_bytes() for p in out.iterdir() if p.is_file()} == before

@@ -1,0 +1,81 @@
+"""A behaviour defined here, in the test, trains, evaluates, draws its figure,
+re-simulates for a video and gets a Gymnasium environment without any other
+module knowing it: the behaviour's hooks are the whole interface."""
+
+from typing import Any
+
+import numpy as np
+import pytest
+
+from locustjump import behaviours, rundir
+from locustjump.behaviours import Behaviour, register_behaviour
+from locustjump.behaviours.kick import ready_start
+from locustjump.config import TrainConfig
+from locustjump.controller import MLP
+from locustjump.evaluate import evaluate_run
+from locustjump.optimizers import RCGAParams
+from locustjump.render import playback_of
+from locustjump.train import train
+
+
+class StandTall(Behaviour):
+    """Stand as tall as possible for 200 steps: fitness = mean body height."""
+
+    name = "stand-tall"
+    n_steps = 200
+    record = ("qpos",)
+
+    def start_states(self, p):
+        return ready_start(p)
+
+    def episode_fitness(self, res, p):
+        return res["qpos"][:, 1:, 2].mean(axis=1)
+
+    def metrics(self, res, p, genome, *, backend=None) -> dict[str, Any]:
+        return {"fitness": float(self.fitness(res, p)[0]),
+                "max_height_m": float(res["qpos"][0, :, 2].max())}  # fmt: skip
+
+
+@pytest.fixture
+def stand(monkeypatch):
+    monkeypatch.setattr(behaviours, "_REGISTRY", dict(behaviours._REGISTRY))
+    register_behaviour(StandTall)
+    return StandTall
+
+
+def test_a_new_behaviour_runs_end_to_end(stand, tmp_path):
+    cfg = TrainConfig(behaviour="stand-tall", generations=2,
+                      optimizer=RCGAParams(population=4), seed=3)  # fmt: skip
+    out = tmp_path / "stand"
+    res = train(cfg, out, progress=False)
+    assert res.generation == 2 and rundir.load_config(out / rundir.CONFIG) == cfg
+    ev = evaluate_run(out)
+    assert ev.matches and ev.metrics["max_height_m"] > 0
+    assert (out / rundir.EVAL / "trajectory.png").is_file()  # the default figure
+    pb = playback_of(out)  # what a video shows
+    assert pb.qpos.shape[1] == 201 and pb.captions is None
+    np.testing.assert_array_equal(pb.qpos[0, 1:, 2].mean(), ev.fitness)
+
+
+def test_a_new_behaviour_gets_an_environment(stand, tmp_path):
+    gym = pytest.importorskip("gymnasium")
+    from locustjump.envs import LocustEnv
+
+    cfg = TrainConfig(behaviour="stand-tall", generations=1,
+                      optimizer=RCGAParams(population=4), seed=3)  # fmt: skip
+    train(cfg, tmp_path / "s", progress=False)
+    _, beh, best = rundir.load_run(tmp_path / "s")
+    env = LocustEnv(StandTall())
+    assert isinstance(env, gym.Env) and env.n_steps == 200
+    net = MLP(output="linear")
+    w = net.prepare(best.genome[None])
+    obs, _ = env.reset(options={"start": 0})
+    total, rewards, done = 0.0, [], False
+    while not done:
+        obs, r, terminated, truncated, _ = env.step(np.tanh(net.apply(w, obs[None]))[0])
+        rewards.append(r)
+        total += r
+        done = terminated or truncated
+    # the default reward is sparse: the episode's fitness at its last step
+    assert all(r == 0.0 for r in rewards[:-1]) and len(rewards) == 200
+    assert total == best.fitness
