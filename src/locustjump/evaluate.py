@@ -62,7 +62,8 @@ def evaluate_run(
     labels = beh.state_labels()
     files = []
     for e, label in enumerate(labels):
-        name = "trajectory.csv" if len(labels) == 1 else f"trajectory_{label}.csv"
+        stem, ext = rundir.TRAJECTORY_CSV.rsplit(".", 1)
+        name = f"{stem}.{ext}" if len(labels) == 1 else f"{stem}_{label}.{ext}"
         files.append(ev / name)
         rundir.write_trajectory_csv(
             files[-1], res["qpos"][e], res["obs"][e], res["ctrl"][e]

@@ -228,7 +228,8 @@ def write_report(path: str | os.PathLike, *, backend: Backend | None = None) -> 
             metrics = rundir.read_json(mfile) if mfile.is_file() else None
             body.append(f"<h2>Stage {html.escape(stage.name)}</h2>")
             body.append(_run_section(stage, metrics, level=3))
-        rules_videos = _videos(d / "rules") if (d / "rules").is_dir() else []
+        rules = d / rundir.RULES_DIR
+        rules_videos = _videos(rules) if rules.is_dir() else []
         if rules_videos:
             body.append("<h2>Rule-based baseline</h2>")
             body += [_figure(v, v.name) for v in rules_videos]

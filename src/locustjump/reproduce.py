@@ -40,7 +40,7 @@ PAPER_STAGES = ("kick", "getup", "return-legs", "composed")
 #: Beyond the paper: one network evolved directly on the composed task.
 BASELINES = ("monolithic",)
 TRAINED = PAPER_STAGES + BASELINES
-STAGES = ("rules", *TRAINED)
+STAGES = (rundir.RULES_DIR, *TRAINED)
 
 
 @dataclass(frozen=True)
@@ -166,9 +166,9 @@ def reproduce(
         )
 
     path = out / rundir.RESULTS
-    if not (out / "rules" / rundir.RULES_SUMMARY).is_file():
+    if not (out / rundir.RULES_DIR / rundir.RULES_SUMMARY).is_file():
         log("[rules] rule-based successive jumping, 3000 steps")
-        run_rules_stage(out / "rules", backend=backend)
+        run_rules_stage(out / rundir.RULES_DIR, backend=backend)
     for stage in TRAINED if monolithic else PAPER_STAGES:
         d = out / stage
         gens = b.of(stage)

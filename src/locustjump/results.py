@@ -50,8 +50,8 @@ def results_markdown(out: Path) -> str:
     out = Path(out)
     marker = rundir.read_toml(out / rundir.MARKER)
     stages = list(marker["generations"])
-    videos = ["rules", *stages]
-    rules = rundir.read_json(out / "rules" / rundir.RULES_SUMMARY)
+    videos = [rundir.RULES_DIR, *stages]
+    rules = rundir.read_json(out / rundir.RULES_DIR / rundir.RULES_SUMMARY)
     info = {
         s: stage_summary(out / s)
         for s in stages
@@ -103,7 +103,7 @@ def results_markdown(out: Path) -> str:
         (
             "Rule-based successive jumping (Fig. 5):",
             "rule-based",
-            "rules/" + rundir.TRAJECTORY_PNG,
+            f"{rundir.RULES_DIR}/{rundir.TRAJECTORY_PNG}",
         )
     ]
     for s, beh in behaviours.items():

@@ -15,6 +15,7 @@ import numpy as np
 from locustjump import model as lm
 from locustjump.controller import MLP, Controller
 from locustjump.rollout import RolloutResult, StartStates, rollout
+from locustjump.rundir.layout import EVAL, TRAJECTORY_PNG
 
 if TYPE_CHECKING:
     from locustjump.backends import Backend
@@ -147,7 +148,9 @@ class Behaviour:
     worst_fitness: ClassVar[float] = 0.0
     requires: ClassVar[tuple[str, ...]] = ()
     #: (file in the run directory, alt text, caption in results.md)
-    figures: ClassVar[tuple[tuple[str, str, str], ...]] = ()
+    figures: ClassVar[tuple[tuple[str, str, str], ...]] = (
+        (f"{EVAL}/{TRAJECTORY_PNG}", "trajectory", ""),
+    )
     headline: ClassVar[tuple[str, ...]] = ("fitness",)
     memory_labels: ClassVar[tuple[str, ...] | None] = None
     gym_id: ClassVar[str | None] = None
@@ -200,7 +203,7 @@ class Behaviour:
         from locustjump.analysis import find_jumps
         from locustjump.plots import trajectory_figure
 
-        path = out / "trajectory.png"
+        path = out / TRAJECTORY_PNG
         qpos = res["qpos"][0]
         trajectory_figure(path, [(self.name, qpos, find_jumps(qpos, p))])
         return [path]

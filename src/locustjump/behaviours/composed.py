@@ -32,6 +32,7 @@ from locustjump.behaviours.base import Behaviour, Claim, StepReward, fmt, yes
 from locustjump.behaviours.getup import SUCCESS_UZ, rolled_starts
 from locustjump.controller import MLP, Controller, MLPWeights
 from locustjump.rollout import RolloutResult, StartStates
+from locustjump.rundir.layout import EVAL
 
 if TYPE_CHECKING:
     from locustjump.backends import Backend
@@ -233,7 +234,7 @@ class Composed(_Successive):
     memory_labels = SIMPLE
     figures = (
         (
-            "eval/composed.png",
+            f"{EVAL}/composed.png",
             "composed",
             "Successive jumping by the composed controller, with the selected "
             "simple behaviour (Fig. 12):",
@@ -278,7 +279,7 @@ class Monolithic(_Successive):
 
     name = "monolithic"
     eval_record = ("qpos", "obs", "ctrl")
-    figures = (("eval/monolithic.png", "monolithic", "The monolithic baseline:"),)
+    figures = ((f"{EVAL}/monolithic.png", "monolithic", "The monolithic baseline:"),)
     gym_id = "LocustSuccessiveJump-v0"
 
     def report_section(self, stages: dict[str, dict[str, Any]]) -> list[str]:

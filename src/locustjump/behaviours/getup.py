@@ -25,6 +25,7 @@ from locustjump import model as lm
 from locustjump.behaviours.base import Behaviour, Claim, StepReward, fmt, settle, yes
 from locustjump.model import CONTROL_DT
 from locustjump.rollout import RolloutResult, StartStates, rollout
+from locustjump.rundir.layout import EVAL, SWEEP, SWEEP_CSV, SWEEP_PNG
 
 if TYPE_CHECKING:
     from locustjump.backends import Backend
@@ -32,6 +33,7 @@ if TYPE_CHECKING:
 TRAIN_ROLLS: tuple[float, ...] = (90.0, 135.0, 180.0, 225.0, 270.0)  # (deg)
 SUCCESS_UZ = 0.9
 SETTLE_SECONDS = 3.0  # rocking on the back dies out by then (docs/behaviours.md)
+FIGURE = "getup.png"  # Fig. 9
 #: The paper's generalisation test: got up from 65 of 180 sweep states.
 PAPER_SWEEP = 65
 
@@ -80,11 +82,11 @@ class GetUp(Behaviour):
     rolls = TRAIN_ROLLS
     figures = (
         (
-            "eval/getup.png",
+            f"{EVAL}/{FIGURE}",
             "getup",
             "Getting up from the five start states (Fig. 9) and the sweep:",
         ),
-        ("sweep/sweep.png", "sweep", ""),
+        (f"{SWEEP}/{SWEEP_PNG}", "sweep", ""),
     )
     headline = ("got_up_from",)
     gym_id = "LocustGetUp-v0"
@@ -132,7 +134,7 @@ class GetUp(Behaviour):
         """``getup.png``: the paper's Fig. 9, U_z over time from each state."""
         from locustjump.plots import getup_figure
 
-        path = out / "getup.png"
+        path = out / FIGURE
         getup_figure(path, up_z(res), self.rolls, SUCCESS_UZ)
         return [path]
 
@@ -260,9 +262,9 @@ def write_sweep(run: Path, sw: Sweep) -> list[Path]:
             fmt=["%.6g", "%d", "%d", "%.6f", "%.6f", "%.6g"],
         )
 
-    rundir.atomic_write_bytes(out / "sweep.csv", write)
-    sweep_figure(out / "sweep.png", sw)
-    return [out / "sweep.csv", out / "sweep.png"]
+    rundir.atomic_write_bytes(out / SWEEP_CSV, write)
+    sweep_figure(out / SWEEP_PNG, sw)
+    return [out / SWEEP_CSV, out / SWEEP_PNG]
 
 
 def sweep_run(

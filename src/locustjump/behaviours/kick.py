@@ -22,10 +22,12 @@ from locustjump.analysis import find_jumps
 from locustjump.behaviours.base import Behaviour, Claim, StepReward, fmt, yes
 from locustjump.model import CONTROL_DT
 from locustjump.rollout import RolloutResult, StartStates
+from locustjump.rundir.layout import EVAL
 
 if TYPE_CHECKING:
     from locustjump.backends import Backend
 
+FIGURE = "kick_vs_rules.png"  # Fig. 7
 #: The paper (Fig. 7): the evolved kick jumps about 2x as high as the rule.
 PAPER_KICK_RATIO = 2.0
 #: What we count as "about 2x" (stated in results.md).
@@ -79,7 +81,7 @@ class Kick(Behaviour):
     n_steps = 300
     record = ("qpos",)
     worst_fitness = 0.0
-    figures = (("eval/kick_vs_rules.png", "kick", "Kick vs rule-based (Fig. 7):"),)
+    figures = ((f"{EVAL}/{FIGURE}", "kick", "Kick vs rule-based (Fig. 7):"),)
     headline = ("apex_height_m", "apex_height_ratio_to_rules")
     gym_id = "LocustKick-v0"
 
@@ -148,7 +150,7 @@ class Kick(Behaviour):
 
         qpos = res["qpos"][0]
         rules = run_rules(steps=self.n_steps, model_params=p, backend=backend)
-        path = out / "kick_vs_rules.png"
+        path = out / FIGURE
         trajectory_figure(
             path,
             [

@@ -22,10 +22,12 @@ from locustjump import model as lm
 from locustjump import names
 from locustjump.behaviours.base import Behaviour, Claim, StepReward, settle, yes
 from locustjump.rollout import RolloutResult, StartStates
+from locustjump.rundir.layout import EVAL
 
 if TYPE_CHECKING:
     from locustjump.backends import Backend
 
+FIGURE = "return_legs.png"  # Fig. 10
 #: What we count as "the legs return to phi" (stated in results.md).
 LEGS_ERROR_OK_DEG = 5.0
 
@@ -56,9 +58,7 @@ class ReturnLegs(Behaviour):
     n_steps = 1000
     record = ("obs",)
     worst_fitness = -4 * np.pi  # beyond any reachable error
-    figures = (
-        ("eval/return_legs.png", "return-legs", "Returning the legs (Fig. 10):"),
-    )
+    figures = ((f"{EVAL}/{FIGURE}", "return-legs", "Returning the legs (Fig. 10):"),)
     headline = ("final_error_deg",)
     gym_id = "LocustReturnLegs-v0"
 
@@ -103,7 +103,7 @@ class ReturnLegs(Behaviour):
         converging to phi."""
         from locustjump.plots import joint_angles_figure
 
-        path = out / "return_legs.png"
+        path = out / FIGURE
         joint_angles_figure(path, res["obs"][0, :, 0:4], p.ready_angles())
         return [path]
 
