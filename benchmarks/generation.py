@@ -1,6 +1,6 @@
 """Wall time of a training generation vs the physics-only time of its episodes.
 
-A real run (``rundir.train``: GA, batched networks, fitness, metrics, atomic
+A real run (``train``: GA, batched networks, fitness, metrics, atomic
 checkpoint) at the paper's population is trained for ``warmup + generations``
 generations in one call, back to back as a user's run is; each generation's
 wall time is the one its ``metrics.csv`` records. Then, from a copy of the GA
@@ -37,10 +37,14 @@ from locustjump.behaviours import (  # noqa: E402
 )
 from locustjump.config import TrainConfig  # noqa: E402
 from locustjump.controller import MLP  # noqa: E402
-from locustjump.optimizers.rcga import RCGA, RCGAParams  # noqa: E402
+from locustjump.optimizers import RCGAParams, make_optimizer  # noqa: E402
 from locustjump.train import train  # noqa: E402
 
 TARGET = 1.15
+
+
+def _digest(simple: rundir.FrozenGenomes | None) -> str:
+    return "" if simple is None else simple.digest
 
 
 def simple_genomes(src: str | None) -> rundir.FrozenGenomes:
@@ -111,13 +115,15 @@ def measure(
     p = cfg.model
     backend = ThreadBackend(threads)
     starts = beh.start_states(p)
-    kw = {"simple": simple} if behaviour == "composed" else {}
+    kw = {"frozen": simple} if beh.requires else {}
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(tmp) / "run"
         train(cfg.replace(generations=warmup), out, progress=False,
                    backend=backend, **kw)  # fmt: skip
-        with np.load(out / rundir.CHECKPOINT) as z:
-            ga = RCGA.from_state(beh.controller.num_params, cfg.rcga, dict(z))
+        ga = make_optimizer(cfg.optimizer, beh.controller.num_params, cfg.seed)
+        ga.load_state(rundir.read_checkpoint(
+            out / rundir.CHECKPOINT, cfg.replace(simple=_digest(simple)),
+            beh.controller.num_params)[2])  # fmt: skip
         train(cfg, out, progress=False, backend=backend, resume=True, **kw)
         metrics = rundir.read_metrics(out / rundir.METRICS)
     wall = [float(w) for w in metrics["wall_s"][warmup:]]
