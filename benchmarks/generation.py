@@ -38,7 +38,7 @@ from locustjump.behaviours import (  # noqa: E402
 from locustjump.config import TrainConfig  # noqa: E402
 from locustjump.controller import MLP  # noqa: E402
 from locustjump.optimizers import RCGAParams, make_optimizer  # noqa: E402
-from locustjump.train import train  # noqa: E402
+from locustjump.trainer import train  # noqa: E402
 
 TARGET = 1.15
 

@@ -24,7 +24,7 @@ from locustjump.evaluate import evaluate_run
 from locustjump.optimizers.rcga import RCGAParams
 from locustjump.reproduce import PAPER_STAGES, Budget, replay, reproduce
 from locustjump.rundir import MARKER, RESULTS
-from locustjump.train import train
+from locustjump.trainer import train
 
 NET, SWITCH = MLP(), MLP(n_out=3, output="sigmoid")
 

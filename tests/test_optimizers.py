@@ -22,7 +22,7 @@ from locustjump.optimizers import (
     optimizer_kinds,
     register,
 )
-from locustjump.train import train
+from locustjump.trainer import train
 
 KINDS = {"rcga": RCGAParams, "cma": CMAParams, "random": RandomSearchParams}
 

@@ -15,7 +15,7 @@ from locustjump.controller import MLP
 from locustjump.evaluate import evaluate_run
 from locustjump.optimizers import RCGAParams
 from locustjump.render import playback_of
-from locustjump.train import train
+from locustjump.trainer import train
 
 
 class StandTall(Behaviour):

@@ -15,7 +15,7 @@ from locustjump.config import TrainConfig
 from locustjump.optimizers.rcga import RCGAParams
 from locustjump.rollout import RolloutResult
 from locustjump.sensors import up_axis_in_body
-from locustjump.train import train
+from locustjump.trainer import train
 
 
 def test_settle_is_deterministic(params):

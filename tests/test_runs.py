@@ -24,7 +24,7 @@ from locustjump.errors import UserError
 from locustjump.evaluate import evaluate_run
 from locustjump.optimizers import params_class
 from locustjump.optimizers.rcga import RCGAParams
-from locustjump.train import train
+from locustjump.trainer import train
 
 SMALL = TrainConfig(generations=4, optimizer=RCGAParams(population=6), seed=5)
 EXACT = ("generation", "best", "mean", "std", "evaluations", "control_steps")

@@ -43,7 +43,6 @@ from locustjump.optimizers import (
     make_optimizer,
     register,
 )
-from locustjump.reproduce import reproduce
 from locustjump.rollout import (
     RolloutJob,
     RolloutResult,
@@ -53,7 +52,7 @@ from locustjump.rollout import (
 )
 from locustjump.rules import RuleController, run_rules
 from locustjump.rundir import load_run
-from locustjump.train import train
+from locustjump.trainer import train
 
 __version__ = "0.1.0"
 
@@ -84,7 +83,6 @@ __all__ = [
     "make_optimizer",
     "register",
     "register_behaviour",
-    "reproduce",
     "reference_rollout",
     "rollout",
     "run_rules",

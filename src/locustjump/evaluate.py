@@ -58,6 +58,15 @@ def evaluate_run(
     fitness = float(beh.fitness(res, p)[0])
     metrics = beh.metrics(res, p, best.genome, backend=backend)
     ev = out / rundir.EVAL if eval_dir is None else Path(eval_dir)
+    if eval_dir is None:
+        with rundir.locked(out):
+            return _write(cfg, beh, best, res, fitness, metrics, ev, backend)
+    return _write(cfg, beh, best, res, fitness, metrics, ev, backend)
+
+
+def _write(cfg, beh, best, res, fitness, metrics, ev: Path, backend) -> Evaluation:
+    """Trajectory CSVs and the behaviour's figures into ``ev``."""
+    p = cfg.model
     ev.mkdir(parents=True, exist_ok=True)
     labels = beh.state_labels()
     files = []

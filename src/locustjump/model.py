@@ -41,6 +41,42 @@ SETTLE_TIME = 1.0  # (Seconds) settling before t = 0
 READY_KEY = names.READY_KEY  # keyframe of the settled start state (Fig. 4)
 
 
+#: Physical ranges of the scalar fields (low, high, low included): a creature
+#: between a flea's size and a few metres, materials between cork and steel
+#: scaled, positive gains; a value outside is refused before MuJoCo sees it.
+_RANGES: dict[str, tuple[float, float, bool]] = {
+    "scale": (0.0, 1000.0, False),  # real locust x 1000: a 50 m body
+    "density": (0.0, 1.0e5, False),  # (kg/m^3)
+    **dict.fromkeys(
+        (
+            "body_half_length",
+            "body_radius",
+            "head_radius",
+            "femur_length",
+            "femur_radius",
+            "tibia_length",
+            "tibia_radius",
+            "tarsus_radius",
+            "strut_radius",
+        ),
+        (0.0, 1.0, False),
+    ),  # (m) at real scale  # fmt: skip
+    "strut_clearance": (0.0, 0.1, True),  # (m)
+    "strut_stiffness": (0.0, 1.0e3, True),
+    "strut_damping": (0.0, 1.0e3, True),
+    "servo_kp": (0.0, 1.0e3, False),
+    "servo_kv": (0.0, 1.0e3, True),
+    "servo_force_limit": (0.0, 1.0e3, False),
+    "joint_damping": (0.0, 1.0e3, True),
+    "joint_armature": (0.0, 1.0e3, True),
+    "substeps": (1, 1000, True),
+    "friction": (0.0, 100.0, False),
+    "iterations": (1, 10000, True),
+    "ls_iterations": (1, 10000, True),
+}
+_INTEGRATORS = ("Euler", "RK4", "implicit", "implicitfast")
+
+
 @dataclass(frozen=True)
 class LocustParams:
     """Every number of the creature and its physics, at real scale (metres).
@@ -109,8 +145,30 @@ class LocustParams:
     ls_iterations: int = 20
 
     def __post_init__(self) -> None:
-        if not self.scale > 0:
-            raise ValueError(f"scale must be > 0, got {self.scale}")
+        for f in dataclasses.fields(self):
+            v = getattr(self, f.name)
+            values = v if isinstance(v, tuple) else (v,)
+            if any(isinstance(x, float) and not math.isfinite(x) for x in values):
+                raise ValueError(f"{f.name} must be finite, got {v}")
+        for name, (lo, hi, closed) in _RANGES.items():
+            v = getattr(self, name)
+            if not ((lo <= v if closed else lo < v) and v <= hi):
+                bound = "[" if closed else "("
+                raise ValueError(f"{name} must be in {bound}{lo:g}, {hi:g}], got {v}")
+        if self.integrator not in _INTEGRATORS:
+            raise ValueError(
+                f"integrator must be one of {', '.join(_INTEGRATORS)}, "
+                f"got {self.integrator!r}"
+            )
+        if not (self.solref[0] > 0 and self.solref[1] > 0):
+            raise ValueError(f"solref must be two numbers > 0, got {self.solref}")
+        if not (
+            0 < self.solimp[0] < 1 and 0 < self.solimp[1] < 1 and self.solimp[2] > 0
+        ):
+            raise ValueError(
+                f"solimp must be (d0, dwidth) in (0, 1) and a width > 0, got "
+                f"{self.solimp}"
+            )
         if self.substeps < 1:
             raise ValueError(f"substeps must be >= 1, got {self.substeps}")
         if not self.strut_stiffness >= 0:
@@ -367,6 +425,18 @@ def load_model(p: LocustParams = LocustParams()) -> mujoco.MjModel:
     """A fresh ``MjModel`` of the creature (compiled once per parameter set)."""
     m = _compiled(p)
     return copy_model(m)
+
+
+def check_model(p: LocustParams) -> None:
+    """Compile the creature of ``p``; a ``UserError`` naming ``[model]`` if MuJoCo
+    rejects it (called before anything is written)."""
+    from locustjump.errors import UserError
+
+    try:
+        _compiled(p)
+    except Exception as e:  # MuJoCo raises ValueError, FatalError, ...
+        msg = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
+        raise UserError(f"[model]: MuJoCo rejects this creature ({msg})") from None
 
 
 def copy_model(m: mujoco.MjModel) -> mujoco.MjModel:

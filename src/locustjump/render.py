@@ -13,6 +13,7 @@ Headless Linux renders with EGL (``MUJOCO_GL=egl``, Debian package
 
 from __future__ import annotations
 
+import contextlib
 import os
 import sys
 import threading
@@ -319,6 +320,14 @@ def render_run(
     if camera not in CAMERAS:
         raise UserError(f"unknown camera {camera!r}; one of {', '.join(CAMERAS)}")
     pb = playback_of(path, backend=backend)
+    inside = Path(out).resolve().parent == Path(path).resolve()
+    with rundir.locked(path) if inside else contextlib.nullcontext():
+        return _encode(pb, out, fps, camera, force, progress)
+
+
+def _encode(
+    pb: Playback, out: Path, fps: float, camera: str, force: bool, progress: bool
+) -> Path:
     if not progress:
         return render_video(pb, out, fps=fps, camera=camera, force=force)
     from tqdm import tqdm

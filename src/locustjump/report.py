@@ -249,5 +249,6 @@ def write_report(path: str | os.PathLike, *, backend: Backend | None = None) -> 
     out = d / rundir.REPORT
     # a reproduction's results.md brings its own heading
     heading = not rundir.is_reproduction(d)
-    rundir.atomic_write_text(out, _page(title, "\n".join(body), heading=heading))
+    with rundir.locked(d):
+        rundir.atomic_write_text(out, _page(title, "\n".join(body), heading=heading))
     return out

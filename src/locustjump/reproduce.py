@@ -30,7 +30,7 @@ from locustjump.errors import UserError
 from locustjump.evaluate import Evaluation, evaluate_run
 from locustjump.optimizers import params_class
 from locustjump.results import VIDEO_FPS, results_markdown
-from locustjump.train import train
+from locustjump.trainer import train
 
 if TYPE_CHECKING:
     from locustjump.backends import Backend
@@ -144,6 +144,27 @@ def reproduce(
 
         backend = ThreadBackend()
     out.mkdir(parents=True, exist_ok=True)
+    with rundir.locked(out):
+        _check_dir(out, {"budget": b.name, "seed": seed, "optimizer": optimizer})
+        return _run_stages(
+            out, b, seed, optimizer, opt_params, backend, progress, log, command,
+            videos, monolithic,
+        )  # fmt: skip
+
+
+def _run_stages(
+    out: Path,
+    b: Budget,
+    seed: int,
+    optimizer: str,
+    opt_params: Any,
+    backend: Backend,
+    progress: bool,
+    log: Callable[[str], None],
+    command: str,
+    videos: bool,
+    monolithic: bool,
+) -> Path:
     if not rundir.is_reproduction(out):
         from locustjump import __version__
 

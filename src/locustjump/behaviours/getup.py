@@ -285,4 +285,5 @@ def sweep_run(
             f"{path}: holds a {cfg.behaviour!r} run; sweep-getup needs a getup run"
         )
     sw = sweep_getup(best.genome, cfg.model, angles, backend=backend)
-    return sw, write_sweep(Path(path), sw)
+    with rundir.locked(path):
+        return sw, write_sweep(Path(path), sw)

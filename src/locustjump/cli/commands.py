@@ -43,7 +43,7 @@ def cmd_rules(args: argparse.Namespace) -> int:
 
 def cmd_train(args: argparse.Namespace) -> int:
     from locustjump.behaviours import behaviour_class, behaviour_names
-    from locustjump.train import resolve_config, train
+    from locustjump.trainer import resolve_config, train
 
     cfg = resolve_config(
         args.behaviour,

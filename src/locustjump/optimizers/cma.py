@@ -49,8 +49,8 @@ class CMAParams:
     def __post_init__(self) -> None:
         if self.population < 2:
             raise ValueError(f"population must be >= 2, got {self.population}")
-        if not (np.isfinite(self.sigma0) and self.sigma0 > 0):
-            raise ValueError(f"sigma0 must be finite and > 0, got {self.sigma0}")
+        if not (np.isfinite(self.sigma0) and 0 < self.sigma0 <= 1.0e6):
+            raise ValueError(f"sigma0 must be in (0, 1e6], got {self.sigma0}")
 
     def replace(self, **changes: Any) -> CMAParams:
         return dataclasses.replace(self, **changes)

@@ -29,10 +29,8 @@ class RandomSearchParams:
     def __post_init__(self) -> None:
         if self.population < 1:
             raise ValueError(f"population must be >= 1, got {self.population}")
-        if not (np.isfinite(self.init_scale) and self.init_scale > 0):
-            raise ValueError(
-                f"init_scale must be finite and > 0, got {self.init_scale}"
-            )
+        if not (np.isfinite(self.init_scale) and 0 < self.init_scale <= 1.0e6):
+            raise ValueError(f"init_scale must be in (0, 1e6], got {self.init_scale}")
 
     def replace(self, **changes: Any) -> RandomSearchParams:
         return dataclasses.replace(self, **changes)

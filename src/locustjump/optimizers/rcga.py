@@ -41,6 +41,9 @@ import numpy as np
 
 from locustjump.optimizers.base import check_fitness, rng_from_state, rng_state
 
+#: Bound on every gene-scale setting: a tanh network saturates long before.
+MAX_GENE_SCALE = 1.0e6
+
 Crossover = Literal["blx", "sbx", "undx"]
 CROSSOVERS: tuple[str, ...] = ("blx", "sbx", "undx")
 
@@ -93,8 +96,8 @@ class RCGAParams:
             "init_scale",
         ):
             v = getattr(self, name)
-            if not (np.isfinite(v) and v >= 0):
-                raise ValueError(f"{name} must be finite and >= 0, got {v}")
+            if not (np.isfinite(v) and 0 <= v <= MAX_GENE_SCALE):
+                raise ValueError(f"{name} must be in [0, {MAX_GENE_SCALE:g}], got {v}")
 
     def replace(self, **changes: Any) -> RCGAParams:
         return dataclasses.replace(self, **changes)

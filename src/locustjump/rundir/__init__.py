@@ -43,6 +43,7 @@ from locustjump.rundir.layout import (
     is_rules_run,
     is_run,
 )
+from locustjump.rundir.lock import locked
 from locustjump.rundir.run import (
     BestGenome,
     FrozenGenomes,

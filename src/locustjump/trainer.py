@@ -117,14 +117,23 @@ def train(
 
         backend = ThreadBackend()
     if resume:
-        run = _resume(out, cfg, bool(cls.requires))
-    else:
-        run = _new(out, cfg, cls, frozen)
-    return _loop(run, backend, progress, stop_after)
+        if not rundir.is_run(out):
+            raise UserError(f"--resume: {out} holds no run (no {rundir.CONFIG})")
+        with rundir.locked(out):
+            run = _resume(out, cfg, bool(cls.requires))
+            return _loop(run, backend, progress, stop_after)
+    run = _check_new(out, cfg, cls, frozen)
+    out.mkdir(parents=True, exist_ok=True)
+    with rundir.locked(out):
+        _check_new(out, cfg, cls, frozen)  # another process may have been first
+        _create(run, frozen)
+        return _loop(run, backend, progress, stop_after)
 
 
-def _new(out: Path, cfg: TrainConfig, cls: type, frozen: FrozenGenomes | None) -> _Run:
-    """Check everything, then create the run directory."""
+def _check_new(
+    out: Path, cfg: TrainConfig, cls: type, frozen: FrozenGenomes | None
+) -> _Run:
+    """Check everything a new run needs, writing nothing."""
     if out.exists() and not out.is_dir():
         raise UserError(f"--out {out}: exists and is not a directory")
     if out.is_dir() and any(out.iterdir()):
@@ -139,21 +148,31 @@ def _new(out: Path, cfg: TrainConfig, cls: type, frozen: FrozenGenomes | None) -
             + " ".join(f"--{r} DIR" for r in cls.requires)
             + ")"
         )
+    from locustjump.model import check_model
+
+    check_model(cfg.model)
     beh = get_behaviour(cfg.behaviour, frozen.genomes if cls.requires else None)
     run = _Run(out, cfg, beh)  # the controller and optimizer are checked here
-    out.mkdir(parents=True, exist_ok=True)
-    if cls.requires:
-        frozen.save(out / rundir.FROZEN)
-    rundir.write_config(out / rundir.CONFIG, cfg)
-    rundir.truncate_metrics(out / rundir.METRICS, 0, "")
+    try:  # the first genomes (ask() holds them until tell())
+        genomes = run.opt.ask()
+    except (ValueError, OverflowError, FloatingPointError) as e:
+        raise UserError(f"[optimizer]: cannot make the first genomes ({e})") from None
+    if not np.isfinite(genomes).all():
+        raise UserError("[optimizer]: the first genomes are not finite")
     return run
+
+
+def _create(run: _Run, frozen: FrozenGenomes | None) -> None:
+    """The files of a new run directory."""
+    if run.beh.requires:
+        frozen.save(run.out / rundir.FROZEN)
+    rundir.write_config(run.out / rundir.CONFIG, run.cfg)
+    rundir.truncate_metrics(run.out / rundir.METRICS, 0, "")
 
 
 def _resume(out: Path, cfg: TrainConfig, builds_on: bool) -> _Run:
     """Check that ``cfg`` continues the run in ``out``, restore it, and only
     then record a changed budget."""
-    if not rundir.is_run(out):
-        raise UserError(f"--resume: {out} holds no run (no {rundir.CONFIG})")
     stored = rundir.load_config(out / rundir.CONFIG)
     if builds_on and not cfg.simple:
         cfg = cfg.replace(simple=stored.simple)

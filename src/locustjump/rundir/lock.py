@@ -1,0 +1,76 @@
+"""One writer per directory: an exclusive ``flock`` on the directory itself.
+
+The lock is held for the life of any command that writes into a run or a
+reproduction directory; a second writer gets a one-line error naming the
+process that holds it. The kernel drops the lock when its process dies, however
+it dies (``kill -9`` included), so a stale lock never blocks, and no lock file
+is left in the directory.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+from collections.abc import Iterator
+from pathlib import Path
+
+from locustjump.errors import UserError
+
+try:
+    import fcntl
+except ImportError:  # pragma: no cover - not POSIX: no locking
+    fcntl = None  # type: ignore[assignment]
+
+
+def _holder(fd: int) -> int | None:
+    """PID of the process holding a flock on the file of ``fd`` (Linux)."""
+    st = os.fstat(fd)
+    dev = f"{os.major(st.st_dev):02x}:{os.minor(st.st_dev):02x}:{st.st_ino}"
+    try:
+        with open("/proc/locks") as f:
+            for line in f:
+                parts = line.split()
+                if "FLOCK" in parts and len(parts) > 5 and parts[5] == dev:
+                    return int(parts[4])
+    except (OSError, ValueError):
+        pass
+    return None
+
+
+#: directories this process holds (re-entrant: a command that locks a
+#: reproduction may call one that locks it again)
+_held: dict[str, int] = {}
+
+
+@contextlib.contextmanager
+def locked(directory: str | os.PathLike) -> Iterator[None]:
+    """Hold the write lock of an existing ``directory`` (``UserError`` if another
+    process holds it). Re-entrant within a process."""
+    d = Path(directory)
+    key = os.path.realpath(d)
+    if fcntl is None or key in _held:
+        _held[key] = _held.get(key, 0) + 1
+        try:
+            yield
+        finally:
+            _held[key] -= 1
+            if not _held[key]:
+                del _held[key]
+        return
+    fd = os.open(d, os.O_RDONLY)
+    try:
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            pid = _holder(fd)
+            who = f"process {pid}" if pid else "another process"
+            raise UserError(
+                f"{d} is in use by {who} (one writer at a time; wait for it or stop it)"
+            ) from None
+        _held[key] = 1
+        try:
+            yield
+        finally:
+            del _held[key]
+    finally:
+        os.close(fd)  # releases the lock

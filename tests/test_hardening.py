@@ -1,0 +1,117 @@
+"""Bad input and OS errors end in one line and exit 2 with nothing left behind;
+one writer per run directory."""
+
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from locustjump import rundir
+from locustjump.cli import main
+
+
+def _fails_cleanly(argv, capsys, needle: str, cwd: Path) -> None:
+    before = sorted(p.name for p in cwd.iterdir())
+    code = main(argv)
+    err = capsys.readouterr().err
+    assert code == 2, err
+    assert needle in err and len(err.strip().splitlines()) == 1, err
+    assert sorted(p.name for p in cwd.iterdir()) == before  # nothing half-made
+    assert not (cwd / "MUJOCO_LOG.TXT").exists()
+
+
+@pytest.mark.parametrize(
+    ("config", "needle"),
+    [
+        ("[model]\nscale = inf\n", "scale must be finite"),
+        ("[model]\ndensity = -300.0\n", "density must be in (0, 100000]"),
+        ("[model]\nfemur_length = 0.0\n", "femur_length must be in (0, 1]"),
+        ("[model]\nscale = 1e9\n", "scale must be in (0, 1000]"),
+        ('[model]\nintegrator = "leapfrog"\n', "integrator must be one of"),
+        ("[optimizer]\ninit_scale = 1e308\n", "init_scale must be in"),
+        ("[rcga]\nmutation_sigma = nan\n", "mutation_sigma"),
+    ],
+)
+def test_bad_model_or_optimizer_values_leave_nothing(
+    tmp_path, capsys, monkeypatch, config, needle
+):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "c.toml").write_text(config)
+    argv = ["train", "kick", "--config", "c.toml", "--quiet", "--out", "run"]
+    _fails_cleanly(argv, capsys, needle, tmp_path)
+
+
+def test_os_errors_and_overflow_are_one_line(tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "afile.txt").write_text("x")
+    (tmp_path / "somedir").mkdir()
+    _fails_cleanly(["train", "kick", "--out", "afile.txt/run"], capsys,
+                   "Not a directory", tmp_path)  # fmt: skip
+    _fails_cleanly(["train", "kick", "--config", "somedir", "--out", "x"], capsys,
+                   "somedir: is a directory", tmp_path)  # fmt: skip
+    _fails_cleanly(["model", "--scale", "1e300", "--out", "m.xml"], capsys,
+                   "scale must be in", tmp_path)  # fmt: skip
+
+
+def test_unknown_option_before_the_command_is_named(capsys):
+    with pytest.raises(SystemExit) as e:
+        main(["--frobnicate"])
+    err = capsys.readouterr().err
+    assert e.value.code == 2 and "--frobnicate" in err and len(err.splitlines()) == 1
+
+
+def test_interrupted_reproduce_says_how_to_continue(tmp_path, capsys, monkeypatch):
+    import sys
+
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(sys.modules["locustjump.reproduce"], "reproduce", interrupted)
+    assert main(["reproduce", "--out", str(tmp_path / "r")]) == 130
+    assert "rerun the same command" in capsys.readouterr().err
+
+
+def _small_run(out: Path, generations: int) -> list[str]:
+    return ["train", "kick", "--population", "4", "--generations", str(generations),
+            "--seed", "1", "--threads", "1", "--quiet", "--out", str(out)]  # fmt: skip
+
+
+def test_resume_validates_before_it_writes(tmp_path, capsys):
+    out = tmp_path / "run"
+    assert main(_small_run(out, 2)) == 0
+    config = (out / rundir.CONFIG).read_bytes()
+    # shortening a finished run is refused, and config.toml keeps its budget
+    assert main([*_small_run(out, 1), "--resume"]) == 2
+    assert "extended, not shortened" in capsys.readouterr().err
+    assert (out / rundir.CONFIG).read_bytes() == config
+    # a damaged metrics.csv is named, and config.toml is not rewritten
+    (out / rundir.METRICS).write_text("generation,best\nnot a row\n")
+    assert main([*_small_run(out, 3), "--resume"]) == 2
+    assert rundir.METRICS in capsys.readouterr().err
+    assert (out / rundir.CONFIG).read_bytes() == config
+
+
+def test_one_writer_per_run_directory_and_a_killed_one_does_not_block(tmp_path, capsys):
+    out = tmp_path / "run"
+    cmd = [sys.executable, "-m", "locustjump.cli", *_small_run(out, 500)]
+    first = subprocess.Popen(cmd)
+    try:
+        deadline = time.monotonic() + 60
+        while time.monotonic() < deadline:
+            m = out / rundir.METRICS
+            if m.exists() and len(m.read_text().splitlines()) > 2:
+                break
+            time.sleep(0.02)
+        assert main([*_small_run(out, 600), "--resume"]) == 2
+        err = capsys.readouterr().err
+        assert f"is in use by process {first.pid}" in err and len(err.splitlines()) == 1
+        assert rundir.load_config(out / rundir.CONFIG).generations == 500
+    finally:
+        first.send_signal(signal.SIGKILL)
+        first.wait()
+    done = rundir.generations_done(out)
+    assert main([*_small_run(out, done + 1), "--resume"]) == 0
+    assert rundir.generations_done(out) == done + 1
