@@ -222,3 +222,18 @@ def test_resume_with_another_optimizer_is_refused(tmp_path, capsys):
     assert code == 2 and "--optimizer cma" in err and "rcga" in err
     assert len(err.splitlines()) == 1
     assert {p.name: p.read_bytes() for p in out.iterdir() if p.is_file()} == before
+
+
+def test_reproduce_keeps_its_optimizer(tmp_path, capsys):
+    """A reproduction started with one optimizer (markers written before
+    optimizers were pluggable name none: the RCGA) is not continued with
+    another."""
+    d = tmp_path / "repro"
+    d.mkdir()
+    (d / rundir.MARKER).write_text('budget = "quick"\nseed = 0\n')
+    before = (d / rundir.MARKER).read_bytes()
+    assert main(["reproduce", "--optimizer", "cma", "--quiet", "--out", str(d)]) == 2
+    err = capsys.readouterr().err
+    assert "optimizer 'rcga', not 'cma'" in err and len(err.splitlines()) == 1
+    assert sorted(p.name for p in d.iterdir()) == [rundir.MARKER]
+    assert (d / rundir.MARKER).read_bytes() == before

@@ -291,3 +291,27 @@ def test_shipped_runs_keep_their_config_hash():
             cfg, model=cfg.model.replace(strut_stiffness=1e-5)
         )
         assert changed.hash() != recorded
+
+
+def test_a_run_made_before_pluggable_optimizers_resumes(shipped, tmp_path):
+    """Shipped checkpoints hold the RCGA's state unprefixed and no optimizer
+    name; they resume and keep their rows. (Checked once against the code
+    before the change: results/quick-seed0/kick extended to 33 generations by
+    both gives the same best genome, population, random state and metrics.)"""
+    import shutil
+
+    out = tmp_path / "kick"
+    shutil.copytree(shipped / "kick", out)
+    with np.load(out / rundir.CHECKPOINT) as z:
+        assert "optimizer" not in z.files and "population" in z.files
+    rows = (out / rundir.METRICS).read_text().splitlines()
+    cfg = rundir.load_config(out / rundir.CONFIG)
+    assert (
+        cfg.optimizer.kind == "rcga" and "[rcga]" in (out / rundir.CONFIG).read_text()
+    )
+    train(cfg.replace(generations=cfg.generations + 1), out, progress=False,
+          resume=True)  # fmt: skip
+    after = (out / rundir.METRICS).read_text().splitlines()
+    assert after[: len(rows)] == rows and len(after) == len(rows) + 1
+    with np.load(out / rundir.CHECKPOINT) as z:
+        assert str(z["optimizer"]) == "rcga" and "opt_population" in z.files

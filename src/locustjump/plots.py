@@ -13,14 +13,21 @@ import numpy as np  # noqa: E402
 from locustjump.analysis import Jump  # noqa: E402
 
 
+def _save(fig, path: Path) -> None:
+    """Write ``fig`` as PNG with the run directory's atomic writer; close it."""
+    from locustjump.rundir import atomic_write_bytes
+
+    atomic_write_bytes(path, lambda f: fig.savefig(f, dpi=120, format="png"))
+    plt.close(fig)
+
+
 def _finish(fig, ax, path: Path, title: str, *, legend: str) -> None:
     """Grid, legend, title; save as PNG and close."""
     ax.grid(alpha=0.3)
     ax.legend(loc=legend, fontsize=8)
     if title:
         ax.set_title(title)
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    _save(fig, path)
 
 
 def _plot_trajectories(
@@ -136,8 +143,7 @@ def composed_figure(
         for i, n in enumerate(names):
             tl.plot([], [], "s", color=colors(i), label=n)
         tl.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=8)
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    _save(fig, path)
 
 
 def getup_figure(
@@ -194,5 +200,4 @@ def sweep_figure(path: Path, sweep, *, title: str = "") -> None:
     ax.set_ylim(0, 1.3)
     ax.legend(loc="lower center", bbox_to_anchor=(0.5, -0.02), fontsize=8, ncol=3)
     ax.set_title(title or f"Got up from {sweep.got_up} of {sweep.n_sweep}")
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    _save(fig, path)

@@ -290,17 +290,12 @@ def render_video(
     size = TILE if out.suffix.lower() == ".gif" else None
     it = frames(pb, fps=fps, camera=camera, size=size)
     first = next(it)  # fails early (renderer) before a file is opened
-    tmp = out.with_name(f".{out.stem}.partial{out.suffix}")
-    try:
-        with _writer(tmp, fps) as w:
-            w.append_data(first)
-            for n, frame in enumerate(it, start=2):
-                w.append_data(frame)
-                if progress is not None:
-                    progress(n)
-        os.replace(tmp, out)
-    finally:
-        tmp.unlink(missing_ok=True)
+    with rundir.atomic_path(out, partial=".partial") as tmp, _writer(tmp, fps) as w:
+        w.append_data(first)
+        for n, frame in enumerate(it, start=2):
+            w.append_data(frame)
+            if progress is not None:
+                progress(n)
     return out
 
 

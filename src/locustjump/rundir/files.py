@@ -2,11 +2,12 @@
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import tomllib
 import zipfile
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
 
@@ -16,22 +17,29 @@ import tomli_w
 from locustjump.errors import UserError
 
 
-def atomic_write_bytes(path: Path, write: Callable[[Any], None] | bytes) -> None:
-    """``write(file)`` (or the bytes) into ``path`` via a temporary file, fsync
-    and rename: readers see the old file or the new one, never half of one."""
+@contextlib.contextmanager
+def atomic_path(path: Path, *, partial: str = ".tmp") -> Iterator[Path]:
+    """A temporary path beside ``path`` to write into; on success it is
+    fsynced and renamed onto ``path`` (readers see the old file or the new one,
+    never half of one), on failure removed."""
     path = Path(path)
-    tmp = path.with_name(f".{path.name}.tmp")
+    tmp = path.with_name(f".{path.stem}{partial}{path.suffix}")
     try:
-        with open(tmp, "wb") as f:
-            if isinstance(write, bytes):
-                f.write(write)
-            else:
-                write(f)
-            f.flush()
+        yield tmp
+        with open(tmp, "rb+") as f:
             os.fsync(f.fileno())
         os.replace(tmp, path)
     finally:
         tmp.unlink(missing_ok=True)
+
+
+def atomic_write_bytes(path: Path, write: Callable[[Any], None] | bytes) -> None:
+    """``write(file)`` (or the bytes) into ``path`` atomically (:func:`atomic_path`)."""
+    with atomic_path(path) as tmp, open(tmp, "wb") as f:
+        if isinstance(write, bytes):
+            f.write(write)
+        else:
+            write(f)
 
 
 def atomic_write_text(path: Path, text: str) -> None:
