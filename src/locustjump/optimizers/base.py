@@ -87,3 +87,53 @@ def rng_from_state(text: Any) -> np.random.Generator:
     bg = getattr(np.random, s["bit_generator"])()
     bg.state = s
     return np.random.Generator(bg)
+
+
+class BestSoFar:
+    """Bookkeeping shared by optimizers that sample a fresh population each
+    generation: the pending ``ask``, the best genome told so far, the counters.
+    A subclass makes genomes in :meth:`_sample` and may act on a tell in
+    :meth:`_learn`."""
+
+    def _reset(self, num_params: int) -> None:
+        self.generation = 0
+        self.fitness = np.empty(0)
+        self._best = np.zeros(num_params)
+        self._best_fitness = -np.inf
+        self._asked: np.ndarray | None = None
+
+    def _sample(self) -> np.ndarray:
+        raise NotImplementedError
+
+    def _learn(self, x: np.ndarray, f: np.ndarray) -> None:
+        """What the optimizer does with a told generation (default: nothing)."""
+
+    def ask(self) -> np.ndarray:
+        """Genomes to evaluate next, (n, num_params)."""
+        if self._asked is None:
+            self._asked = self._sample()
+        return self._asked.copy()
+
+    def tell(self, fitness: np.ndarray) -> None:
+        """Fitness (n,) of the genomes of the last :meth:`ask`, same order."""
+        if self._asked is None:
+            raise RuntimeError("tell() without a pending ask()")
+        f = check_fitness(fitness, self._asked.shape[0])
+        self._learn(self._asked, f)
+        i = int(np.argmax(f))
+        if f[i] > self._best_fitness:
+            self._best, self._best_fitness = self._asked[i].copy(), float(f[i])
+        self.fitness, self._asked = f, None
+        self.generation += 1
+
+    @property
+    def best(self) -> np.ndarray:
+        return self._best.copy()
+
+    @property
+    def best_fitness(self) -> float:
+        return self._best_fitness
+
+    def _check_between_generations(self) -> None:
+        if self._asked is not None:
+            raise RuntimeError("checkpoint between generations (after tell())")

@@ -25,7 +25,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from locustjump.optimizers.base import check_fitness
+from locustjump.optimizers.base import BestSoFar
 
 #: pycma's stop keys that are ours to ignore: the trainer owns the budget
 _BUDGET_RULES = {
@@ -66,7 +66,7 @@ def _import_cma():
     return cma
 
 
-class CMAES:
+class CMAES(BestSoFar):
     """Ask/tell CMA-ES over pycma. Maximises."""
 
     Params: ClassVar[type] = CMAParams
@@ -90,45 +90,22 @@ class CMAES:
         self.es = cma.CMAEvolutionStrategy(
             np.zeros(self.num_params), self.params.sigma0, opts
         )
-        self.generation = 0
-        self.fitness = np.empty(0)
         self.history: list[np.ndarray] = []
-        self._best = np.zeros(self.num_params)
-        self._best_fitness = -np.inf
-        self._asked: np.ndarray | None = None
+        self._reset(self.num_params)
 
-    def ask(self) -> np.ndarray:
-        if self._asked is None:
-            self._asked = np.array(self.es.ask(), dtype=np.float64)
-        return self._asked.copy()
+    def _sample(self) -> np.ndarray:
+        return np.array(self.es.ask(), dtype=np.float64)
 
-    def tell(self, fitness: np.ndarray) -> None:
-        if self._asked is None:
-            raise RuntimeError("tell() without a pending ask()")
-        f = check_fitness(fitness, self._asked.shape[0])
-        self.es.tell(list(self._asked), list(-f))  # pycma minimises
-        i = int(np.argmax(f))
-        if f[i] > self._best_fitness:
-            self._best, self._best_fitness = self._asked[i].copy(), float(f[i])
+    def _learn(self, x: np.ndarray, f: np.ndarray) -> None:
+        self.es.tell(list(x), list(-f))  # pycma minimises
         self.history.append(f.copy())
-        self.fitness, self._asked = f, None
-        self.generation += 1
-
-    @property
-    def best(self) -> np.ndarray:
-        return self._best.copy()
-
-    @property
-    def best_fitness(self) -> float:
-        return self._best_fitness
 
     def stop(self) -> str | None:
         reasons = {k: v for k, v in self.es.stop().items() if k not in _BUDGET_RULES}
         return ", ".join(f"{k} {v}" for k, v in reasons.items()) or None
 
     def state(self) -> dict[str, np.ndarray]:
-        if self._asked is not None:
-            raise RuntimeError("checkpoint between generations (after tell())")
+        self._check_between_generations()
         return {
             "generation": np.array(self.generation),
             "seed": np.array(self.seed),

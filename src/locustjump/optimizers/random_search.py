@@ -15,7 +15,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from locustjump.optimizers.base import check_fitness, rng_from_state, rng_state
+from locustjump.optimizers.base import BestSoFar, rng_from_state, rng_state
 
 
 @dataclass(frozen=True)
@@ -36,7 +36,7 @@ class RandomSearchParams:
         return dataclasses.replace(self, **changes)
 
 
-class RandomSearch:
+class RandomSearch(BestSoFar):
     """Ask/tell random search. Maximises; never stops on its own."""
 
     Params: ClassVar[type] = RandomSearchParams
@@ -49,44 +49,17 @@ class RandomSearch:
     ):
         self.num_params, self.params = int(num_params), params
         self.rng = np.random.default_rng(seed)
-        self.generation = 0
-        self.fitness = np.empty(0)
-        self._best = np.zeros(num_params)
-        self._best_fitness = -np.inf
-        self._asked: np.ndarray | None = None
+        self._reset(self.num_params)
 
-    def ask(self) -> np.ndarray:
-        if self._asked is None:
-            s = self.params.init_scale
-            self._asked = self.rng.uniform(
-                -s, s, size=(self.params.population, self.num_params)
-            )
-        return self._asked.copy()
-
-    def tell(self, fitness: np.ndarray) -> None:
-        if self._asked is None:
-            raise RuntimeError("tell() without a pending ask()")
-        f = check_fitness(fitness, self._asked.shape[0])
-        i = int(np.argmax(f))
-        if f[i] > self._best_fitness:
-            self._best, self._best_fitness = self._asked[i].copy(), float(f[i])
-        self.fitness, self._asked = f, None
-        self.generation += 1
-
-    @property
-    def best(self) -> np.ndarray:
-        return self._best.copy()
-
-    @property
-    def best_fitness(self) -> float:
-        return self._best_fitness
+    def _sample(self) -> np.ndarray:
+        s = self.params.init_scale
+        return self.rng.uniform(-s, s, size=(self.params.population, self.num_params))
 
     def stop(self) -> str | None:
         return None
 
     def state(self) -> dict[str, np.ndarray]:
-        if self._asked is not None:
-            raise RuntimeError("checkpoint between generations (after tell())")
+        self._check_between_generations()
         return {
             "generation": np.array(self.generation),
             "fitness": self.fitness.copy(),
