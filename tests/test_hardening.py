@@ -115,3 +115,20 @@ def test_one_writer_per_run_directory_and_a_killed_one_does_not_block(tmp_path, 
     done = rundir.generations_done(out)
     assert main([*_small_run(out, done + 1), "--resume"]) == 0
     assert rundir.generations_done(out) == done + 1
+
+
+def test_what_cannot_fit_in_memory_is_refused_before_anything(
+    tmp_path, capsys, monkeypatch, shipped
+):
+    monkeypatch.chdir(tmp_path)
+    import shutil
+
+    shutil.copytree(shipped / "getup", tmp_path / "getup")
+    before = sorted(str(p) for p in (tmp_path / "getup").rglob("*"))
+    _fails_cleanly(["sweep-getup", "getup", "--step-deg", "1e-7"], capsys,
+                   "1,800,000,000 start states needs about", tmp_path)  # fmt: skip
+    assert sorted(str(p) for p in (tmp_path / "getup").rglob("*")) == before
+    _fails_cleanly(["train", "kick", "--population", "100000000", "--out", "big"],
+                   capsys, "population 100,000,000", tmp_path)  # fmt: skip
+    _fails_cleanly(["rules", "--steps", "2000000000", "--out", "r"], capsys,
+                   "GiB of memory; the limit is", tmp_path)  # fmt: skip

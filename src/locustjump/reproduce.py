@@ -268,7 +268,7 @@ def replay(
     found = [s for s in TRAINED if (src / s / rundir.BEST).is_file()]
     if not found:
         raise UserError(f"{src}: holds no trained stage yet")
-    dest = rundir.prepare_out_dir(out, force=force)
+    dest = rundir.check_out_dir(out, force=force)  # made as it is written
     return [
         (s, evaluate_run(src / s, backend=backend, eval_dir=dest / s)) for s in found
     ]

@@ -36,6 +36,7 @@ from mujoco.batch import Batch, SimulationError
 from locustjump import model as lm
 from locustjump import sensors
 from locustjump.controller import Controller
+from locustjump.resources import require_memory
 
 if TYPE_CHECKING:
     from locustjump.backends import Backend
@@ -97,6 +98,7 @@ class RolloutJob:
     starts: StartStates  # n states
     n_steps: int
     record: tuple[str, ...] = ("qpos", "obs")
+    label: str = ""  # a progress bar over the control steps when not empty
 
     def __post_init__(self) -> None:
         if self.n_steps < 1:
@@ -130,6 +132,7 @@ class RolloutJob:
                 self.starts.take(slice(a, b)),
                 self.n_steps,
                 self.record,
+                self.label,
             )
             for a, b in zip(bounds[:-1], bounds[1:], strict=True)
             if b > a
@@ -187,6 +190,18 @@ def _as_slice(adr: np.ndarray) -> np.ndarray | slice:
     return a
 
 
+def rollout_bytes(
+    m: mujoco.MjModel, n: int, n_steps: int, record: Sequence[str], nmem: int = 1
+) -> float:
+    """Estimated memory of a rollout of ``n`` episodes: the records, one
+    simulation each (its arena dominates) and the per-episode arrays."""
+    dims = {"qpos": m.nq, "obs": sensors.N_INPUTS, "ctrl": sensors.N_ACTUATORS,
+            "memory": nmem}  # fmt: skip
+    per_step = sum(dims[k] for k in record) * 8.0
+    per_episode = (n_steps + 1) * per_step + m.narena + 64 * 1024
+    return float(n) * per_episode
+
+
 def run_batch(batch: Batch, job: RolloutJob) -> RolloutResult:
     m = batch.model
     p = job.model_params
@@ -218,7 +233,10 @@ def run_batch(batch: Batch, job: RolloutJob) -> RolloutResult:
     steps = np.full(n, T)
     alive: np.ndarray | None = None  # None: all alive (no index array per step)
     done = 0
+    bar = _progress(job)
     for t in range(T):
+        if bar is not None and t % 100 == 0:
+            bar.update(min(100, T - t))
         deltas, memory = ctl.act(prepared, memory, obs, ctrl, t)
         if alive is None:
             sensors.apply_deltas(ctrl, deltas, idx.ranges, out=ctrl)
@@ -260,7 +278,20 @@ def run_batch(batch: Batch, job: RolloutJob) -> RolloutResult:
             memory,
             frozen=unstable if alive is not None else None,
         )
+    if bar is not None:
+        bar.close()
     return RolloutResult(rec.arrays, unstable, steps, done)
+
+
+def _progress(job: RolloutJob):
+    """A progress bar over the control steps of a labelled job (shown on a
+    terminal only)."""
+    if not job.label:
+        return None
+    from tqdm.auto import tqdm
+
+    return tqdm(total=job.n_steps, desc=job.label, unit="step", disable=None,
+                dynamic_ncols=True)  # fmt: skip
 
 
 class _Recorder:
@@ -388,6 +419,7 @@ def rollout(
     model_params: lm.LocustParams = lm.LocustParams(),
     record: Sequence[str] = ("qpos", "obs"),
     backend: Backend | None = None,
+    label: str = "",
 ) -> RolloutResult:
     """Evaluate every controller from every start state.
 
@@ -400,6 +432,11 @@ def rollout(
       record: fields to record per control step (see ``RECORDABLE``).
       backend: where to run (:mod:`locustjump.backends`); default: a new
         thread backend on every CPU, for this call only.
+      label: show a progress bar over the control steps with this label
+        (on a terminal).
+
+    Raises:
+      UserError: the rollout would not fit in the memory available.
 
     Returns:
       A :class:`RolloutResult` with ``n_ctrl * k`` episodes, controller-major:
@@ -407,6 +444,13 @@ def rollout(
     """
     params = np.atleast_2d(np.asarray(params, dtype=np.float64))
     k = len(starts)
+    require_memory(
+        rollout_bytes(
+            lm.load_model(model_params), params.shape[0] * k, int(n_steps), record,
+            controller.memory_size,
+        ),
+        f"a rollout of {params.shape[0] * k:,} episodes x {int(n_steps):,} steps",
+    )  # fmt: skip
     job = RolloutJob(
         model_params,
         controller,
@@ -414,6 +458,7 @@ def rollout(
         starts.take(np.tile(np.arange(k), params.shape[0])),
         int(n_steps),
         tuple(record),
+        label,
     )
     if backend is None:
         from locustjump.backends import ThreadBackend

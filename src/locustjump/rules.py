@@ -102,9 +102,11 @@ def run_rules(
     *,
     model_params: lm.LocustParams = lm.LocustParams(),
     backend: Backend | None = None,
+    label: str = "",
 ) -> RulesRun:
     """Run the rule-based successive jumping from the Fig. 4 start state
-    (``backend``: where, :mod:`locustjump.backends`)."""
+    (``backend``: where, :mod:`locustjump.backends`; ``label``: a progress bar
+    on a terminal)."""
     from locustjump.analysis import find_jumps
     from locustjump.rollout import StartStates, rollout
 
@@ -119,6 +121,7 @@ def run_rules(
         model_params=model_params,
         record=("qpos", "obs", "ctrl"),
         backend=backend,
+        label=label,
     )
     qpos = res["qpos"][0]
     return RulesRun(
@@ -147,7 +150,9 @@ def write_rules_run(
     from locustjump import rundir
     from locustjump.plots import trajectory_figure
 
-    run = run_rules(change_time, steps, model_params=model_params, backend=backend)
+    run = run_rules(
+        change_time, steps, model_params=model_params, backend=backend, label="rules"
+    )
     out.mkdir(parents=True, exist_ok=True)
     rundir.write_trajectory_csv(
         out / rundir.TRAJECTORY_CSV, run.qpos, run.obs, run.ctrl

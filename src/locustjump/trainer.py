@@ -23,6 +23,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from locustjump import model as lm
 from locustjump import rundir
 from locustjump.behaviours import Behaviour, behaviour_class, get_behaviour
 from locustjump.config import TrainConfig
@@ -148,10 +149,18 @@ def _check_new(
             + " ".join(f"--{r} DIR" for r in cls.requires)
             + ")"
         )
-    from locustjump.model import check_model
-
-    check_model(cfg.model)
+    lm.check_model(cfg.model)
     beh = get_behaviour(cfg.behaviour, frozen.genomes if cls.requires else None)
+    from locustjump.resources import require_memory
+    from locustjump.rollout import rollout_bytes
+
+    require_memory(
+        rollout_bytes(
+            lm.load_model(cfg.model), cfg.population * len(beh.start_states(cfg.model)),
+            beh.n_steps, beh.record,
+        ),
+        f"population {cfg.population:,}: a generation",
+    )  # fmt: skip
     run = _Run(out, cfg, beh)  # the controller and optimizer are checked here
     try:  # the first genomes (ask() holds them until tell())
         genomes = run.opt.ask()

@@ -49,6 +49,22 @@ def rolled_starts(p: lm.LocustParams, rolls: tuple[float, ...]) -> StartStates:
     )
 
 
+def _settled(p: lm.LocustParams, rolls: tuple[float, ...]) -> StartStates:
+    """:func:`rolled_starts` of many states, with a progress bar (terminal)."""
+    if len(rolls) <= 2 * len(TRAIN_ROLLS):
+        return rolled_starts(p, rolls)
+    from tqdm.auto import tqdm
+
+    return StartStates.concat(
+        [
+            rolled_starts(p, (r,))
+            for r in tqdm(
+                rolls, desc="settling start states", unit="state", disable=None
+            )  # fmt: skip
+        ]
+    )
+
+
 def up_z(res: RolloutResult) -> np.ndarray:
     """(n, T + 1) U_z of every episode."""
     return res["obs"][:, :, 8]
@@ -189,6 +205,13 @@ def sweep_angles(
     n = int(np.floor((to_deg - from_deg) / step_deg + 1e-9))
     if n < 1:
         raise ValueError(f"--step-deg {step_deg:g} leaves no angle in the range")
+    from locustjump.resources import require_memory
+    from locustjump.rollout import rollout_bytes
+
+    require_memory(
+        rollout_bytes(lm.load_model(), n + len(TRAIN_ROLLS), GetUp.n_steps, ("obs",)),
+        f"--step-deg {step_deg:g}: a sweep of {n:,} start states",
+    )
     return from_deg + step_deg * (np.arange(n) + 0.5)
 
 
@@ -225,11 +248,12 @@ def sweep_getup(
     res = rollout(
         GetUp().controller,
         genome[None],
-        rolled_starts(p, rolls),
+        _settled(p, rolls),
         GetUp.n_steps,
         model_params=p,
         record=("obs",),
         backend=backend,
+        label=f"sweep: {len(rolls)} states",
     )
     uz = np.where(res.unstable[:, None], -1.0, up_z(res))
     s = getup_summary(uz)

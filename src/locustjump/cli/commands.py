@@ -28,7 +28,7 @@ def cmd_model(args: argparse.Namespace) -> int:
 def cmd_rules(args: argparse.Namespace) -> int:
     from locustjump.rules import write_rules_run
 
-    out = rundir.prepare_out_dir(args.out, force=args.force)
+    out = rundir.check_out_dir(args.out, force=args.force)  # made once it ran
     p = lm.LocustParams(strut_stiffness=args.strut_stiffness)
     run = write_rules_run(
         out, args.change_time, args.steps, model_params=p, backend=_backend(args)

@@ -28,6 +28,7 @@ from locustjump.rundir.files import (
     atomic_path,
     atomic_write_bytes,
     atomic_write_text,
+    check_out_dir,
     load_npz,
     prepare_out_dir,
     prepare_out_file,

@@ -96,6 +96,20 @@ def save_npz(path: Path, **arrays: Any) -> None:
 # --- output locations given by the user -----------------------------------------
 
 
+def check_out_dir(path: str | os.PathLike, *, force: bool = False) -> Path:
+    """Refuse (``UserError``) an existing non-empty ``path`` unless ``force``;
+    create nothing."""
+    out = Path(path)
+    if out.exists() and not out.is_dir():
+        raise UserError(f"--out {out}: exists and is not a directory")
+    if out.is_dir() and any(out.iterdir()) and not force:
+        raise UserError(
+            f"--out {out}: directory exists and is not empty (use --force to "
+            "write into it)"
+        )
+    return out
+
+
 def prepare_out_dir(path: str | os.PathLike, *, force: bool = False) -> Path:
     """Create ``path``; refuse an existing non-empty one unless ``force``."""
     out = Path(path)
