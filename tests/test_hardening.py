@@ -132,3 +132,60 @@ def test_what_cannot_fit_in_memory_is_refused_before_anything(
                    capsys, "population 100,000,000", tmp_path)  # fmt: skip
     _fails_cleanly(["rules", "--steps", "2000000000", "--out", "r"], capsys,
                    "GiB of memory; the limit is", tmp_path)  # fmt: skip
+
+
+@pytest.fixture
+def small_disk(tmp_path):
+    """A 2 MiB tmpfs (needs root: CI runs as root)."""
+    import os
+
+    mnt = tmp_path / "disk"
+    mnt.mkdir()
+    if os.geteuid() != 0:
+        pytest.skip("mounting a small tmpfs needs root (CI runs as root)")
+    r = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=2m", "tmpfs", str(mnt)],
+                       capture_output=True, text=True)  # fmt: skip
+    if r.returncode != 0:
+        pytest.skip(f"cannot mount a tmpfs here: {r.stderr.strip()}")
+    yield mnt
+    subprocess.run(["umount", "-l", str(mnt)], check=False)
+
+
+def _fill(d: Path) -> Path:
+    """Take every free byte of the filesystem of ``d``."""
+    filler = d / "filler"
+    with open(filler, "wb", buffering=0) as f:
+        try:
+            while True:
+                f.write(b"\0" * 4096)
+        except OSError:
+            pass
+    return filler
+
+
+def test_a_full_disk_loses_nothing_and_resume_is_bit_identical(
+    small_disk, tmp_path, capsys
+):
+    from test_runs import assert_same_run
+
+    argv = _small_run(small_disk / "run", 12)
+    ref = tmp_path / "ref"
+    assert main(_small_run(ref, 12)) == 0
+    capsys.readouterr()
+    # 4 generations, then the disk fills up
+    cfg = rundir.load_config(ref / rundir.CONFIG).replace(generations=12)
+    from locustjump.trainer import train
+
+    train(cfg, small_disk / "run", progress=False, stop_after=4)
+    checkpoint = (small_disk / "run" / rundir.CHECKPOINT).read_bytes()
+    filler = _fill(small_disk)
+    assert main([*argv, "--resume"]) == 2
+    err = capsys.readouterr().err
+    assert "No space left on device" in err and len(err.strip().splitlines()) == 1
+    assert "run/" in err  # names the file
+    # the last complete checkpoint is intact, no temporary file is left
+    assert (small_disk / "run" / rundir.CHECKPOINT).read_bytes() == checkpoint
+    assert not [p for p in (small_disk / "run").iterdir() if p.name.startswith(".")]
+    filler.unlink()  # space freed: --resume continues bit-identically
+    assert main([*argv, "--resume"]) == 0
+    assert_same_run(ref, small_disk / "run")

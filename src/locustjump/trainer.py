@@ -232,50 +232,57 @@ def _loop(
     )
     done = 0
     stopped = opt.stop() if opt.generation else None
+    failed = True
+    metrics = run.out / rundir.METRICS
     try:
-        with open(run.out / rundir.METRICS, "a") as metrics:
-            while (
-                stopped is None
-                and opt.generation < cfg.generations
-                and (stop_after is None or done < stop_after)
-            ):
-                t0 = time.perf_counter()
-                x = opt.ask()
-                fit, res = beh.evaluate(x, p, backend=backend)
-                opt.tell(fit)
-                g = opt.generation
-                i = int(np.argmax(fit))
-                if run.best is None or fit[i] > run.best.fitness:
-                    run.best = BestGenome(
-                        x[i].copy(), float(fit[i]), g, cfg.behaviour, run.hash
-                    )
-                    run.best.save(run.out / rundir.BEST)
-                f = opt.fitness
-                # floats as shortest round-trip text: the CSV holds exact values
-                row = [g, float(f[int(np.argmax(f))]), float(f.mean()), float(f.std())]
-                row += [len(x), res.control_steps]
-                # the checkpoint carries its own metrics row (a kill between the
-                # two writes loses nothing); wall time covers the whole
-                # generation but for this last small write
-                wall = time.perf_counter() - t0
-                run.checkpoint(rundir.metrics_line(row, wall, res.control_steps / wall))
-                wall = time.perf_counter() - t0
-                rate = res.control_steps / wall
-                metrics.write(rundir.metrics_line(row, wall, rate))
-                metrics.flush()
-                done += 1
-                stopped = opt.stop()
-                bar.set_postfix(
-                    best=f"{row[1]:.4g}",
-                    mean=f"{row[2]:.4g}",
-                    steps_s=f"{rate:,.0f}",
-                    refresh=False,
+        while (
+            stopped is None
+            and opt.generation < cfg.generations
+            and (stop_after is None or done < stop_after)
+        ):
+            t0 = time.perf_counter()
+            x = opt.ask()
+            fit, res = beh.evaluate(x, p, backend=backend)
+            opt.tell(fit)
+            g = opt.generation
+            i = int(np.argmax(fit))
+            if run.best is None or fit[i] > run.best.fitness:
+                run.best = BestGenome(
+                    x[i].copy(), float(fit[i]), g, cfg.behaviour, run.hash
                 )
-                bar.update(1)
+                run.best.save(run.out / rundir.BEST)
+            f = opt.fitness
+            # floats as shortest round-trip text: the CSV holds exact values
+            row = [g, float(f[int(np.argmax(f))]), float(f.mean()), float(f.std())]
+            row += [len(x), res.control_steps]
+            # the checkpoint carries its own metrics row (a kill between the
+            # two writes loses nothing); wall time covers the whole
+            # generation but for this last small write
+            wall = time.perf_counter() - t0
+            run.checkpoint(rundir.metrics_line(row, wall, res.control_steps / wall))
+            wall = time.perf_counter() - t0
+            rate = res.control_steps / wall
+            # the checkpoint already holds this row: a failed append loses
+            # nothing (resume restores it)
+            rundir.append_line(metrics, rundir.metrics_line(row, wall, rate))
+            done += 1
+            stopped = opt.stop()
+            bar.set_postfix(
+                best=f"{row[1]:.4g}",
+                mean=f"{row[2]:.4g}",
+                steps_s=f"{rate:,.0f}",
+                refresh=False,
+            )
+            bar.update(1)
+        failed = False
     finally:
         bar.close()
         if opt.generation > 0:
-            fitness_figure(run.out)
+            try:
+                fitness_figure(run.out)
+            except UserError:
+                if not failed:  # else the first error is the one to report
+                    raise
     assert run.best is not None
     return TrainResult(
         run.out, opt.generation, run.best, time.perf_counter() - t_start, stopped

@@ -25,6 +25,7 @@ CSV, ``.npz`` with ``allow_pickle=False``).
 """
 
 from locustjump.rundir.files import (
+    append_line,
     atomic_path,
     atomic_write_bytes,
     atomic_write_text,

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import contextlib
+import errno
 import json
 import os
 import tomllib
@@ -29,6 +30,13 @@ def atomic_path(path: Path, *, partial: str = ".tmp") -> Iterator[Path]:
         with open(tmp, "rb+") as f:
             os.fsync(f.fileno())
         os.replace(tmp, path)
+    except OSError as e:
+        if e.errno in (errno.ENOSPC, errno.EIO, errno.EDQUOT, errno.EROFS):
+            raise UserError(
+                f"{path}: cannot be written ({e.strerror}); the previous version "
+                "is intact"
+            ) from None
+        raise
     finally:
         tmp.unlink(missing_ok=True)
 
@@ -40,6 +48,19 @@ def atomic_write_bytes(path: Path, write: Callable[[Any], None] | bytes) -> None
             f.write(write)
         else:
             write(f)
+
+
+def append_line(path: Path, line: str) -> None:
+    """Append ``line`` to ``path`` with one unbuffered write (a failed write is
+    named like any other; a partial line is dropped on resume)."""
+    try:
+        fd = os.open(path, os.O_WRONLY | os.O_APPEND | os.O_CREAT, 0o644)
+        try:
+            os.write(fd, line.encode())
+        finally:
+            os.close(fd)
+    except OSError as e:
+        raise UserError(f"{path}: cannot be written ({e.strerror})") from None
 
 
 def atomic_write_text(path: Path, text: str) -> None:
