@@ -189,3 +189,23 @@ def test_a_full_disk_loses_nothing_and_resume_is_bit_identical(
     filler.unlink()  # space freed: --resume continues bit-identically
     assert main([*argv, "--resume"]) == 0
     assert_same_run(ref, small_disk / "run")
+
+
+def test_reading_a_shipped_reproduction_changes_none_of_its_files(
+    shipped, tmp_path, capsys
+):
+    """evaluate, report and replay of a shipped reproduction leave every file
+    it ships as it was (so a checkout stays clean)."""
+    import shutil
+
+    d = tmp_path / "repro"
+    shutil.copytree(shipped, d)
+    files = {p: p.read_bytes() for p in d.rglob("*") if p.is_file()}
+    for stage in ("kick", "getup", "return-legs", "composed", "monolithic"):
+        assert main(["evaluate", str(d / stage)]) == 0
+    assert main(["report", str(d)]) == 0
+    assert main(["replay", str(d), "--out", str(tmp_path / "rp")]) == 0
+    capsys.readouterr()
+    changed = [str(p.relative_to(d)) for p, b in files.items() if p.read_bytes() != b]
+    # report.html is derived (not shipped: .gitignore)
+    assert changed == [] or changed == ["report.html"], changed
