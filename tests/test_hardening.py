@@ -27,9 +27,9 @@ def _fails_cleanly(argv, capsys, needle: str, cwd: Path) -> None:
     ("config", "needle"),
     [
         ("[model]\nscale = inf\n", "scale must be finite"),
-        ("[model]\ndensity = -300.0\n", "density must be in (0, 100000]"),
-        ("[model]\nfemur_length = 0.0\n", "femur_length must be in (0, 1]"),
-        ("[model]\nscale = 1e9\n", "scale must be in (0, 1000]"),
+        ("[model]\ndensity = -300.0\n", "density must be in [1, 100000]"),
+        ("[model]\nfemur_length = 0.0\n", "femur_length must be in [1e-05, 1]"),
+        ("[model]\nscale = 1e9\n", "scale must be in [0.01, 1000]"),
         ('[model]\nintegrator = "leapfrog"\n', "integrator must be one of"),
         ("[optimizer]\ninit_scale = 1e308\n", "init_scale must be in"),
         ("[rcga]\nmutation_sigma = nan\n", "mutation_sigma"),

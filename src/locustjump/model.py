@@ -45,8 +45,8 @@ READY_KEY = names.READY_KEY  # keyframe of the settled start state (Fig. 4)
 #: between a flea's size and a few metres, materials between cork and steel
 #: scaled, positive gains; a value outside is refused before MuJoCo sees it.
 _RANGES: dict[str, tuple[float, float, bool]] = {
-    "scale": (0.0, 1000.0, False),  # real locust x 1000: a 50 m body
-    "density": (0.0, 1.0e5, False),  # (kg/m^3)
+    "scale": (0.01, 1000.0, True),  # a 0.5 mm to a 50 m body
+    "density": (1.0, 1.0e5, True),  # (kg/m^3) lighter than cork to beyond osmium
     **dict.fromkeys(
         (
             "body_half_length",
@@ -59,18 +59,18 @@ _RANGES: dict[str, tuple[float, float, bool]] = {
             "tarsus_radius",
             "strut_radius",
         ),
-        (0.0, 1.0, False),
+        (1.0e-5, 1.0, True),
     ),  # (m) at real scale  # fmt: skip
     "strut_clearance": (0.0, 0.1, True),  # (m)
     "strut_stiffness": (0.0, 1.0e3, True),
     "strut_damping": (0.0, 1.0e3, True),
-    "servo_kp": (0.0, 1.0e3, False),
+    "servo_kp": (1.0e-12, 1.0e3, True),
     "servo_kv": (0.0, 1.0e3, True),
-    "servo_force_limit": (0.0, 1.0e3, False),
+    "servo_force_limit": (1.0e-12, 1.0e3, True),
     "joint_damping": (0.0, 1.0e3, True),
     "joint_armature": (0.0, 1.0e3, True),
     "substeps": (1, 1000, True),
-    "friction": (0.0, 100.0, False),
+    "friction": (1.0e-6, 100.0, True),
     "iterations": (1, 10000, True),
     "ls_iterations": (1, 10000, True),
 }
@@ -154,7 +154,10 @@ class LocustParams:
             v = getattr(self, name)
             if not ((lo <= v if closed else lo < v) and v <= hi):
                 bound = "[" if closed else "("
-                raise ValueError(f"{name} must be in {bound}{lo:g}, {hi:g}], got {v}")
+                raise ValueError(
+                    f"{name} must be in {bound}{lo:g}, {hi:g}] (docs/physics.md), "
+                    f"got {v}"
+                )
         if self.integrator not in _INTEGRATORS:
             raise ValueError(
                 f"integrator must be one of {', '.join(_INTEGRATORS)}, "
