@@ -1,3 +1,4 @@
+import os
 from pathlib import Path
 
 # isort: off
@@ -35,3 +36,19 @@ def shipped() -> Path:
     if not (SHIPPED / "reproduce.toml").is_file():
         pytest.skip(f"{SHIPPED} not present")
     return SHIPPED
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_makereport(item, call):
+    """With LOCUSTJUMP_NO_SKIP set (CI, which installs every system package
+    the README lists), a skipped test fails: every test must run there."""
+    outcome = yield
+    report = outcome.get_result()
+    if (
+        report.skipped
+        and os.environ.get("LOCUSTJUMP_NO_SKIP")
+        and not hasattr(report, "wasxfail")
+    ):
+        reason = report.longrepr[2] if isinstance(report.longrepr, tuple) else ""
+        report.outcome = "failed"
+        report.longrepr = f"skipped in CI, where every test must run: {reason}"

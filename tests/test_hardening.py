@@ -209,3 +209,20 @@ def test_reading_a_shipped_reproduction_changes_none_of_its_files(
     changed = [str(p.relative_to(d)) for p, b in files.items() if p.read_bytes() != b]
     # report.html is derived (not shipped: .gitignore)
     assert changed == [] or changed == ["report.html"], changed
+
+
+def test_sigterm_stops_a_run_like_ctrl_c_and_it_resumes(tmp_path):
+    out = tmp_path / "run"
+    cmd = [sys.executable, "-m", "locustjump.cli", *_small_run(out, 500)]
+    proc = subprocess.Popen(cmd, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline:
+        m = out / rundir.METRICS
+        if m.exists() and len(m.read_text().splitlines()) > 2:
+            break
+        time.sleep(0.02)
+    proc.send_signal(signal.SIGTERM)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 130 and "rerun it with --resume" in err
+    done = rundir.generations_done(out)
+    assert main([*_small_run(out, done + 1), "--resume"]) == 0

@@ -6,6 +6,7 @@ Ctrl-C ends with status 130 and a line saying how to continue.
 
 from __future__ import annotations
 
+import signal
 import sys
 from collections.abc import Sequence
 
@@ -36,6 +37,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     ):
         parser.error(f"unrecognized arguments: {argv[0]}")
     args = parser.parse_args(argv)
+    previous = signal.signal(signal.SIGTERM, _interrupt)  # stop as on Ctrl-C
     try:
         return args.func(args)
     except (UserError, ValueError, ImportError) as e:
@@ -51,7 +53,13 @@ def main(argv: Sequence[str] | None = None) -> int:
         how = _CONTINUE.get(args.command, "nothing was half-written")
         print(f"locustjump: interrupted ({how})", file=sys.stderr)
         return 130
+    finally:
+        signal.signal(signal.SIGTERM, previous)
     return 2
+
+
+def _interrupt(signum, frame) -> None:
+    raise KeyboardInterrupt
 
 
 if __name__ == "__main__":
