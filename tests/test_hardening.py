@@ -226,3 +226,28 @@ def test_sigterm_stops_a_run_like_ctrl_c_and_it_resumes(tmp_path):
     assert proc.returncode == 130 and "rerun it with --resume" in err
     done = rundir.generations_done(out)
     assert main([*_small_run(out, done + 1), "--resume"]) == 0
+
+
+def test_a_read_only_filesystem_is_one_line(tmp_path, capsys, shipped):
+    import os
+
+    ro = tmp_path / "ro"
+    ro.mkdir()
+    if os.geteuid() != 0:
+        pytest.skip("mounting a read-only tmpfs needs root (CI runs as root)")
+    r = subprocess.run(["mount", "-t", "tmpfs", "-o", "ro,size=1m", "tmpfs", str(ro)],
+                       capture_output=True, text=True)  # fmt: skip
+    if r.returncode != 0:
+        pytest.skip(f"cannot mount a tmpfs here: {r.stderr.strip()}")
+    try:
+        for argv in (
+            ["train", "kick", "--quiet", "--out", str(ro / "run")],
+            ["model", "--out", str(ro / "m.xml")],
+            ["replay", str(shipped), "--out", str(ro / "rp")],
+        ):
+            assert main(argv) == 2, argv
+            err = capsys.readouterr().err
+            assert "Read-only file system" in err and len(err.splitlines()) == 1
+            assert str(ro) in err
+    finally:
+        subprocess.run(["umount", "-l", str(ro)], check=False)

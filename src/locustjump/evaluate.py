@@ -54,7 +54,10 @@ def evaluate_run(
     out = Path(path)
     cfg, beh, best = rundir.load_run(out)
     p = cfg.model
-    res = beh.simulate(best.genome[None], p, backend=backend, record=beh.eval_record)
+    res = beh.simulate(
+        best.genome[None], p, backend=backend, record=beh.eval_record,
+        label=f"evaluate {cfg.behaviour}",
+    )  # fmt: skip
     fitness = float(beh.fitness(res, p)[0])
     metrics = beh.metrics(res, p, best.genome, backend=backend)
     ev = out / rundir.EVAL if eval_dir is None else Path(eval_dir)

@@ -243,8 +243,10 @@ class Behaviour:
         *,
         backend: Backend | None = None,
         record: tuple[str, ...] | None = None,
+        label: str = "",
     ) -> RolloutResult:
-        """Every genome from every start state (controller-major episodes)."""
+        """Every genome from every start state (controller-major episodes);
+        ``label``: a progress bar on a terminal."""
         return rollout(
             self.controller,
             genomes,
@@ -253,6 +255,7 @@ class Behaviour:
             model_params=p,
             record=self.record if record is None else record,
             backend=backend,
+            label=label,
         )
 
     def fitness(self, res: RolloutResult, p: lm.LocustParams) -> np.ndarray:
