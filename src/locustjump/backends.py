@@ -8,6 +8,8 @@ splits or however many workers it uses (tests check it).
 name         what
 ===========  ================================================================
 ``threads``  one ``mujoco.batch.Batch`` stepped on C threads (the default)
+``ray``      the episodes split across Ray actors, each holding a thread
+             backend (:mod:`locustjump.ray_backend`, extra ``[ray]``)
 ===========  ================================================================
 
 Commands take ``--backend NAME`` and ``--threads N`` and build the backend
@@ -25,7 +27,7 @@ from locustjump import model as lm
 from locustjump.rollout import RolloutJob, RolloutResult, run_batch
 
 #: backend names the command line accepts
-BACKENDS: tuple[str, ...] = ("threads",)
+BACKENDS: tuple[str, ...] = ("threads", "ray")
 
 
 class Backend(Protocol):
@@ -69,13 +71,28 @@ class ThreadBackend:
         return run_batch(self._batch(job.model_params, job.n_episodes), job)
 
 
-def make_backend(name: str = "threads", *, threads: int | None = None) -> Backend:
+def make_backend(
+    name: str = "threads",
+    *,
+    threads: int | None = None,
+    address: str | None = None,
+    actors: int | None = None,
+) -> Backend:
     """The backend called ``name`` (``ValueError`` naming the choices if none).
 
     Args:
       name: one of :data:`BACKENDS`.
-      threads: simulation threads per process (default: every CPU here).
+      threads: simulation threads per process (threads: default every CPU
+        here; ray: per actor, default 1).
+      address: ray: the cluster to join (default: a local instance).
+      actors: ray: how many actors (default: the cluster's CPUs / threads).
     """
     if name == "threads":
+        if address is not None or actors is not None:
+            raise ValueError("--address and --actors are for --backend ray")
         return ThreadBackend(threads)
+    if name == "ray":
+        from locustjump.ray_backend import RayBackend
+
+        return RayBackend(address, actors=actors, threads=threads)
     raise ValueError(f"unknown backend {name!r}; choose from {', '.join(BACKENDS)}")

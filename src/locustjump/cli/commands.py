@@ -14,7 +14,9 @@ from locustjump.errors import UserError
 def _backend(args: argparse.Namespace):
     from locustjump.backends import make_backend
 
-    return make_backend(args.backend, threads=args.threads)
+    return make_backend(
+        args.backend, threads=args.threads, address=args.address, actors=args.actors
+    )
 
 
 def cmd_model(args: argparse.Namespace) -> int:

@@ -82,7 +82,19 @@ def _add_backend(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--threads",
         type=_int_at_least("--threads", 1),
-        help="simulation threads (default: all CPUs; the result does not depend on it)",
+        help="simulation threads (threads: default all CPUs; ray: per actor, "
+        "default 1); the result does not depend on it",
+    )
+    p.add_argument(
+        "--address",
+        metavar="HOST:PORT",
+        help="ray: the cluster to join ('auto': the one `ray start` made here; "
+        "default: a local Ray instance)",
+    )
+    p.add_argument(
+        "--actors",
+        type=_int_at_least("--actors", 1),
+        help="ray: how many actors (default: the cluster's CPUs / --threads)",
     )
 
 

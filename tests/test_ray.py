@@ -1,0 +1,103 @@
+"""The Ray backend: bit-identical to the thread backend for any number of
+actors, and a killed actor is replaced without changing the result. One local
+Ray instance (2 CPUs) serves the whole module."""
+
+import os
+import signal
+import threading
+import time
+
+import numpy as np
+import pytest
+
+ray = pytest.importorskip("ray", reason="Ray is not installed (extra locustjump[ray])")
+
+from locustjump import rundir  # noqa: E402
+from locustjump.backends import ThreadBackend, make_backend  # noqa: E402
+from locustjump.cli import main  # noqa: E402
+from locustjump.config import TrainConfig  # noqa: E402
+from locustjump.controller import MLP  # noqa: E402
+from locustjump.optimizers import RCGAParams  # noqa: E402
+from locustjump.rollout import RolloutJob, StartStates  # noqa: E402
+from locustjump.trainer import train  # noqa: E402
+
+SMALL = TrainConfig(generations=3, optimizer=RCGAParams(population=6), seed=5)
+
+
+@pytest.fixture(scope="module")
+def local_ray():
+    if not ray.is_initialized():
+        ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False,
+                 configure_logging=False)  # fmt: skip
+    yield
+    ray.shutdown()
+
+
+@pytest.fixture(scope="module")
+def reference(tmp_path_factory):
+    out = tmp_path_factory.mktemp("threads") / "run"
+    train(SMALL, out, progress=False, backend=ThreadBackend(2))
+    return out
+
+
+@pytest.mark.parametrize("actors", [1, 2, 3])
+def test_ray_is_bit_identical_to_threads(local_ray, reference, tmp_path, actors):
+    from test_runs import assert_same_run
+
+    backend = make_backend("ray", actors=actors)
+    out = tmp_path / "run"
+    train(SMALL, out, progress=False, backend=backend)
+    assert_same_run(reference, out)
+
+
+def _job(params, n_steps: int) -> RolloutJob:
+    from locustjump.model import LocustParams, load_model
+
+    p = LocustParams()
+    starts = StartStates.ready(load_model(p))
+    n = params.shape[0]
+    return RolloutJob(p, MLP(), params, starts.take([0] * n), n_steps, ("qpos",))
+
+
+def test_a_killed_actor_is_replaced_and_the_result_is_the_same(local_ray):
+    params = MLP().random_genomes(np.random.default_rng(3), 8)
+    job = _job(params, 3000)
+    expected = ThreadBackend(1).run(job)
+    backend = make_backend("ray", actors=2)
+    victim = backend.pids()[1]
+    result = {}
+    worker = threading.Thread(target=lambda: result.update(r=backend.run(job)))
+    worker.start()
+    time.sleep(0.5)  # mid-rollout
+    os.kill(victim, signal.SIGKILL)
+    worker.join(timeout=120)
+    got = result["r"]
+    np.testing.assert_array_equal(got["qpos"], expected["qpos"])
+    assert victim not in backend.pids()
+
+
+def test_ray_bad_input(local_ray, tmp_path, capsys):
+    out = tmp_path / "run"
+    # more CPUs per actor than the cluster has
+    assert main(["train", "kick", "--backend", "ray", "--threads", "64", "--out",
+                 str(out)]) == 2  # fmt: skip
+    assert "has 2 CPUs" in capsys.readouterr().err and not out.exists()
+    # --address with the thread backend
+    assert main(["train", "kick", "--address", "auto", "--out", str(out)]) == 2
+    assert "--backend ray" in capsys.readouterr().err and not out.exists()
+
+
+def test_an_address_nobody_listens_on_fails_fast(tmp_path, capsys):
+    import subprocess
+    import sys
+
+    out = tmp_path / "run"
+    t0 = time.monotonic()
+    r = subprocess.run(
+        [sys.executable, "-m", "locustjump.cli", "train", "kick", "--backend", "ray",
+         "--address", "127.0.0.1:9", "--out", str(out)],
+        capture_output=True, text=True, timeout=60,
+    )  # fmt: skip
+    assert r.returncode == 2 and time.monotonic() - t0 < 20
+    assert "--address 127.0.0.1:9" in r.stderr and len(r.stderr.splitlines()) == 1
+    assert not out.exists() and not rundir.is_run(out)
