@@ -1,6 +1,7 @@
 """Bad input and OS errors end in one line and exit 2 with nothing left behind;
 one writer per run directory."""
 
+import contextlib
 import signal
 import subprocess
 import sys
@@ -134,21 +135,29 @@ def test_what_cannot_fit_in_memory_is_refused_before_anything(
                    "GiB of memory; the limit is", tmp_path)  # fmt: skip
 
 
-@pytest.fixture
-def small_disk(tmp_path):
-    """A 2 MiB tmpfs (needs root: CI runs as root)."""
+@contextlib.contextmanager
+def _tmpfs(mnt: Path, options: str):
+    """A tmpfs mounted at ``mnt`` (needs root: CI runs as root)."""
     import os
 
-    mnt = tmp_path / "disk"
     mnt.mkdir()
     if os.geteuid() != 0:
-        pytest.skip("mounting a small tmpfs needs root (CI runs as root)")
-    r = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=2m", "tmpfs", str(mnt)],
+        pytest.skip("mounting a tmpfs needs root (CI runs as root)")
+    r = subprocess.run(["mount", "-t", "tmpfs", "-o", options, "tmpfs", str(mnt)],
                        capture_output=True, text=True)  # fmt: skip
     if r.returncode != 0:
         pytest.skip(f"cannot mount a tmpfs here: {r.stderr.strip()}")
-    yield mnt
-    subprocess.run(["umount", "-l", str(mnt)], check=False)
+    try:
+        yield mnt
+    finally:
+        subprocess.run(["umount", "-l", str(mnt)], check=False)
+
+
+@pytest.fixture
+def small_disk(tmp_path):
+    """A 2 MiB tmpfs."""
+    with _tmpfs(tmp_path / "disk", "size=2m") as mnt:
+        yield mnt
 
 
 def _fill(d: Path) -> Path:
@@ -229,17 +238,7 @@ def test_sigterm_stops_a_run_like_ctrl_c_and_it_resumes(tmp_path):
 
 
 def test_a_read_only_filesystem_is_one_line(tmp_path, capsys, shipped):
-    import os
-
-    ro = tmp_path / "ro"
-    ro.mkdir()
-    if os.geteuid() != 0:
-        pytest.skip("mounting a read-only tmpfs needs root (CI runs as root)")
-    r = subprocess.run(["mount", "-t", "tmpfs", "-o", "ro,size=1m", "tmpfs", str(ro)],
-                       capture_output=True, text=True)  # fmt: skip
-    if r.returncode != 0:
-        pytest.skip(f"cannot mount a tmpfs here: {r.stderr.strip()}")
-    try:
+    with _tmpfs(tmp_path / "ro", "ro,size=1m") as ro:
         for argv in (
             ["train", "kick", "--quiet", "--out", str(ro / "run")],
             ["model", "--out", str(ro / "m.xml")],
@@ -249,5 +248,3 @@ def test_a_read_only_filesystem_is_one_line(tmp_path, capsys, shipped):
             err = capsys.readouterr().err
             assert "Read-only file system" in err and len(err.splitlines()) == 1
             assert str(ro) in err
-    finally:
-        subprocess.run(["umount", "-l", str(ro)], check=False)

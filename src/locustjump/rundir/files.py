@@ -133,14 +133,7 @@ def check_out_dir(path: str | os.PathLike, *, force: bool = False) -> Path:
 
 def prepare_out_dir(path: str | os.PathLike, *, force: bool = False) -> Path:
     """Create ``path``; refuse an existing non-empty one unless ``force``."""
-    out = Path(path)
-    if out.exists() and not out.is_dir():
-        raise UserError(f"--out {out}: exists and is not a directory")
-    if out.is_dir() and any(out.iterdir()) and not force:
-        raise UserError(
-            f"--out {out}: directory exists and is not empty (use --force to "
-            "write into it)"
-        )
+    out = check_out_dir(path, force=force)
     out.mkdir(parents=True, exist_ok=True)
     return out
 
