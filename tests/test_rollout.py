@@ -5,11 +5,11 @@ import pytest
 
 from locustjump.backends import ThreadBackend
 from locustjump.controller import MLP
+from locustjump.episode import reference_rollout
 from locustjump.rollout import (
     RolloutJob,
     RolloutResult,
     StartStates,
-    reference_rollout,
     rollout,
 )
 from locustjump.rules import RuleController

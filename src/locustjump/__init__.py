@@ -31,6 +31,7 @@ from locustjump.behaviours import (
 )
 from locustjump.config import TrainConfig
 from locustjump.controller import MLP, Controller
+from locustjump.episode import reference_rollout
 from locustjump.evaluate import evaluate_run
 from locustjump.model import CONTROL_DT, LocustParams, load_model, to_mjcf
 from locustjump.optimizers import (
@@ -43,13 +44,7 @@ from locustjump.optimizers import (
     make_optimizer,
     register,
 )
-from locustjump.rollout import (
-    RolloutJob,
-    RolloutResult,
-    StartStates,
-    reference_rollout,
-    rollout,
-)
+from locustjump.rollout import RolloutJob, RolloutResult, StartStates, rollout
 from locustjump.rules import RuleController, run_rules
 from locustjump.rundir import load_run
 from locustjump.trainer import train

@@ -22,7 +22,7 @@ id                          task (paper)        steps   start states
 
 Each environment is one episode of the training engine
 (:mod:`locustjump.rollout`), stepped on one ``MjData`` with the same
-operations in the same order (:class:`~locustjump.rollout.Episode`), so a
+operations in the same order (:class:`~locustjump.episode.Episode`), so a
 genome run through it gets the engine's fitness (``tests/test_envs.py``).
 """
 
@@ -37,8 +37,8 @@ from gymnasium import spaces
 from locustjump import model as lm
 from locustjump import names
 from locustjump.behaviours import Behaviour, behaviour_class, behaviour_names
+from locustjump.episode import Episode
 from locustjump.model import CONTROL_DT
-from locustjump.rollout import Episode
 from locustjump.sensors import MAX_DELTA, N_ACTUATORS, N_INPUTS
 
 

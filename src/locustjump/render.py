@@ -30,9 +30,10 @@ from locustjump import model as lm
 from locustjump import names, rundir
 from locustjump.config import from_table
 from locustjump.controller import Controller
+from locustjump.episode import Episode
 from locustjump.errors import UserError
 from locustjump.model import CONTROL_DT
-from locustjump.rollout import Episode, StartStates, rollout
+from locustjump.rollout import StartStates, rollout
 
 if TYPE_CHECKING:
     from locustjump.backends import Backend
