@@ -5,11 +5,11 @@ import contextlib
 import signal
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import pytest
 
+from helpers import assert_same_run, wait_for_rows
 from locustjump import rundir
 from locustjump.cli import main
 
@@ -100,12 +100,7 @@ def test_one_writer_per_run_directory_and_a_killed_one_does_not_block(tmp_path, 
     cmd = [sys.executable, "-m", "locustjump.cli", *_small_run(out, 500)]
     first = subprocess.Popen(cmd)
     try:
-        deadline = time.monotonic() + 60
-        while time.monotonic() < deadline:
-            m = out / rundir.METRICS
-            if m.exists() and len(m.read_text().splitlines()) > 2:
-                break
-            time.sleep(0.02)
+        wait_for_rows(out, 2, timeout=60)
         assert main([*_small_run(out, 600), "--resume"]) == 2
         err = capsys.readouterr().err
         assert f"is in use by process {first.pid}" in err and len(err.splitlines()) == 1
@@ -175,8 +170,6 @@ def _fill(d: Path) -> Path:
 def test_a_full_disk_loses_nothing_and_resume_is_bit_identical(
     small_disk, tmp_path, capsys
 ):
-    from test_runs import assert_same_run
-
     argv = _small_run(small_disk / "run", 12)
     ref = tmp_path / "ref"
     assert main(_small_run(ref, 12)) == 0
@@ -224,12 +217,7 @@ def test_sigterm_stops_a_run_like_ctrl_c_and_it_resumes(tmp_path):
     out = tmp_path / "run"
     cmd = [sys.executable, "-m", "locustjump.cli", *_small_run(out, 500)]
     proc = subprocess.Popen(cmd, stderr=subprocess.PIPE, text=True)
-    deadline = time.monotonic() + 60
-    while time.monotonic() < deadline:
-        m = out / rundir.METRICS
-        if m.exists() and len(m.read_text().splitlines()) > 2:
-            break
-        time.sleep(0.02)
+    wait_for_rows(out, 2, timeout=60)
     proc.send_signal(signal.SIGTERM)
     _, err = proc.communicate(timeout=60)
     assert proc.returncode == 130 and "rerun it with --resume" in err

@@ -188,27 +188,6 @@ def test_unknown_optimizer_or_backend(tmp_path, capsys, argv, needle):
     assert not out.exists()
 
 
-@pytest.mark.parametrize(
-    ("text", "match"),
-    [
-        ('[optimizer]\nkind = "cma"\nalpha = 1\n', "optimizer.alpha"),
-        ('[optimizer]\nkind = "cma"\nsigma0 = "big"\n', "optimizer.sigma0"),
-        ('[optimizer]\nkind = "sgd"\n', "unknown optimizer 'sgd'"),
-        ("[optimizer]\nkind = 3\n", "optimizer.kind"),
-        ('[optimizer]\nkind = "cma"\nsigma0 = -1.0\n', "sigma0"),
-        ('[optimizer]\nkind = "cma"\n[rcga]\npopulation = 4\n', "not both"),
-    ],
-)
-def test_bad_optimizer_table(tmp_path, capsys, text, match):
-    cfg = tmp_path / "c.toml"
-    cfg.write_text(text)
-    out = tmp_path / "run"
-    assert main(["train", "kick", "--config", str(cfg), "--out", str(out)]) == 2
-    err = capsys.readouterr().err
-    assert match in err and len(err.splitlines()) == 1
-    assert not out.exists()
-
-
 def test_resume_with_another_optimizer_is_refused(tmp_path, capsys):
     out = tmp_path / "run"
     argv = ["train", "kick", "--population", "4", "--generations", "1", "--quiet",

@@ -12,6 +12,7 @@ import pytest
 
 ray = pytest.importorskip("ray", reason="Ray is not installed (extra locustjump[ray])")
 
+from helpers import assert_same_run  # noqa: E402
 from locustjump import rundir  # noqa: E402
 from locustjump.backends import ThreadBackend, make_backend  # noqa: E402
 from locustjump.cli import main  # noqa: E402
@@ -42,8 +43,6 @@ def reference(tmp_path_factory):
 
 @pytest.mark.parametrize("actors", [1, 2, 3])
 def test_ray_is_bit_identical_to_threads(local_ray, reference, tmp_path, actors):
-    from test_runs import assert_same_run
-
     backend = make_backend("ray", actors=actors)
     out = tmp_path / "run"
     train(SMALL, out, progress=False, backend=backend)

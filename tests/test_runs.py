@@ -6,7 +6,6 @@ import re
 import signal
 import subprocess
 import sys
-import time
 import tomllib
 import zipfile
 from pathlib import Path
@@ -14,6 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from helpers import assert_same_run, wait_for_rows
 from locustjump import rundir
 from locustjump.backends import ThreadBackend
 from locustjump.behaviours import get_behaviour
@@ -27,22 +27,6 @@ from locustjump.optimizers.rcga import RCGAParams
 from locustjump.trainer import train
 
 SMALL = TrainConfig(generations=4, optimizer=RCGAParams(population=6), seed=5)
-EXACT = ("generation", "best", "mean", "std", "evaluations", "control_steps")
-
-
-def assert_same_run(a: Path, b: Path) -> None:
-    """Same genomes, fitness, GA state and metrics, bit for bit (not wall time)."""
-    for name in (rundir.CHECKPOINT, rundir.BEST):
-        with np.load(a / name) as za, np.load(b / name) as zb:
-            assert za.files == zb.files
-            for k in set(za.files) - {"metrics_row"}:  # holds the wall time
-                np.testing.assert_array_equal(za[k], zb[k], err_msg=f"{name}:{k}")
-    ma, mb = (
-        rundir.read_metrics(a / rundir.METRICS),
-        rundir.read_metrics(b / rundir.METRICS),
-    )
-    for k in EXACT:
-        np.testing.assert_array_equal(ma[k], mb[k])
 
 
 @pytest.fixture(scope="module")
@@ -100,12 +84,7 @@ def test_resume_after_a_kill_is_bit_identical(tmp_path, kind):
            "6", "--seed", "5", "--generations", "40", "--threads", "1", "--quiet",
            "--optimizer", kind, "--out", str(out)]  # fmt: skip
     proc = subprocess.Popen(cmd)
-    deadline = time.monotonic() + 120
-    while time.monotonic() < deadline:
-        m = out / rundir.METRICS
-        if m.exists() and len(m.read_text().splitlines()) > 6:
-            break
-        time.sleep(0.02)
+    wait_for_rows(out, 6, timeout=120)
     proc.send_signal(signal.SIGKILL)
     proc.wait()
     done = len(rundir.read_metrics(out / rundir.METRICS))
@@ -216,6 +195,12 @@ def test_bad_genome_files_are_named(full_run, tmp_path, capsys):
         ("[rcga]\nelite = 60\n", "elite"),
         ("seed = [\n", "not valid TOML"),
         ('behaviour = "getup"\n', "behaviour"),
+        ('[optimizer]\nkind = "cma"\nalpha = 1\n', "optimizer.alpha"),
+        ('[optimizer]\nkind = "cma"\nsigma0 = "big"\n', "optimizer.sigma0"),
+        ('[optimizer]\nkind = "sgd"\n', "unknown optimizer 'sgd'"),
+        ("[optimizer]\nkind = 3\n", "optimizer.kind"),
+        ('[optimizer]\nkind = "cma"\nsigma0 = -1.0\n', "sigma0"),
+        ('[optimizer]\nkind = "cma"\n[rcga]\npopulation = 4\n', "not both"),
     ],
 )
 def test_bad_config_is_named(tmp_path, capsys, text, match):

@@ -1,0 +1,36 @@
+"""Helpers shared by the tests (importable: tests/ is on sys.path)."""
+
+import time
+from pathlib import Path
+
+import numpy as np
+
+from locustjump import rundir
+
+EXACT = ("generation", "best", "mean", "std", "evaluations", "control_steps")
+
+
+def assert_same_run(a: Path, b: Path) -> None:
+    """Same genomes, fitness, GA state and metrics, bit for bit (not wall time)."""
+    for name in (rundir.CHECKPOINT, rundir.BEST):
+        with np.load(a / name) as za, np.load(b / name) as zb:
+            assert za.files == zb.files
+            for k in set(za.files) - {"metrics_row"}:  # holds the wall time
+                np.testing.assert_array_equal(za[k], zb[k], err_msg=f"{name}:{k}")
+    ma, mb = (
+        rundir.read_metrics(a / rundir.METRICS),
+        rundir.read_metrics(b / rundir.METRICS),
+    )
+    for k in EXACT:
+        np.testing.assert_array_equal(ma[k], mb[k])
+
+
+def wait_for_rows(out: Path, rows: int, timeout: float = 60.0) -> None:
+    """Wait until run ``out`` (written by another process) has more than
+    ``rows`` lines in ``metrics.csv`` (its header included)."""
+    deadline = time.monotonic() + timeout
+    m = out / rundir.METRICS
+    while time.monotonic() < deadline:
+        if m.exists() and len(m.read_text().splitlines()) > rows:
+            return
+        time.sleep(0.02)
