@@ -59,20 +59,30 @@ def _job(params, n_steps: int) -> RolloutJob:
 
 
 def test_a_killed_actor_is_replaced_and_the_result_is_the_same(local_ray):
+    # long enough (~1 s per actor on a fast machine) that the kill lands
+    # while the generation runs; the test checks that it did
     params = MLP().random_genomes(np.random.default_rng(3), 8)
-    job = _job(params, 3000)
-    expected = ThreadBackend(1).run(job)
+    job = _job(params, 20_000)
+    expected = ThreadBackend(2).run(job)
     backend = make_backend("ray", actors=2)
     victim = backend.pids()[1]
     result = {}
     worker = threading.Thread(target=lambda: result.update(r=backend.run(job)))
     worker.start()
-    time.sleep(0.5)  # mid-rollout
+    time.sleep(0.2)
     os.kill(victim, signal.SIGKILL)
-    worker.join(timeout=120)
-    got = result["r"]
-    np.testing.assert_array_equal(got["qpos"], expected["qpos"])
-    assert victim not in backend.pids()
+    assert "r" not in result, "the rollout ended before the kill; lengthen it"
+    worker.join(timeout=300)
+    np.testing.assert_array_equal(result["r"]["qpos"], expected["qpos"])
+    assert backend.replaced == 1
+    assert victim not in backend.pids() and backend.replaced == 1
+    # an actor that dies between generations is replaced on the next one
+    os.kill(backend.pids()[0], signal.SIGKILL)
+    short = _job(params[:4], 200)
+    np.testing.assert_array_equal(
+        backend.run(short)["qpos"], ThreadBackend(1).run(short)["qpos"]
+    )
+    assert backend.replaced == 2
 
 
 def test_ray_bad_input(local_ray, tmp_path, capsys):

@@ -17,7 +17,6 @@ process already has); ``"auto"`` or ``"HOST:PORT"`` joins a running cluster
 from __future__ import annotations
 
 import socket
-import time
 from typing import Any
 
 from locustjump.errors import UserError
@@ -121,6 +120,8 @@ class RayBackend:
         share = min(float(self.threads), cpus / self.n_actors)
         self._remote = ray.remote(num_cpus=share, max_restarts=0)(_Worker)
         self._actors: list[Any] = []
+        #: how many dead actors were replaced so far
+        self.replaced = 0
 
     def _ensure(self) -> list[Any]:
         """Actors are made on the first rollout (EvoTorch's pattern)."""
@@ -128,10 +129,22 @@ class RayBackend:
             self._actors.append(self._remote.remote(self.threads))
         return self._actors
 
+    def _replace(self, i: int) -> Any:
+        """A new actor in slot ``i`` for one that died (its node, its process)."""
+        self._actors[i] = self._remote.remote(self.threads)
+        self.replaced += 1
+        return self._actors[i]
+
     def pids(self) -> list[int]:
-        """Process IDs of the actors (made if need be)."""
+        """Process IDs of the live actors (dead ones replaced, missing made)."""
         ray = _ray()
-        return ray.get([a.pid.remote() for a in self._ensure()])
+        out = []
+        for i, actor in enumerate(self._ensure()):
+            try:
+                out.append(ray.get(actor.pid.remote()))
+            except ray.exceptions.RayActorError:
+                out.append(ray.get(self._replace(i).pid.remote()))
+        return out
 
     def run(self, job: RolloutJob) -> RolloutResult:
         ray = _ray()
@@ -146,8 +159,6 @@ class RayBackend:
             try:
                 results[i] = ray.get(ref)
             except ray.exceptions.RayActorError:
-                # the actor died (its node, its process): a new one, same share
-                self._actors[i] = self._remote.remote(self.threads)
-                pending[self._actors[i].run.remote(parts[i])] = i
-                time.sleep(0)  # let Ray schedule it
+                # the actor died: a new one gets the same share of episodes
+                pending[self._replace(i).run.remote(parts[i])] = i
         return RolloutResult.concat(results)  # type: ignore[arg-type]
