@@ -38,6 +38,17 @@ def shipped() -> Path:
     return SHIPPED
 
 
+@pytest.fixture(scope="session")
+def local_ray():
+    """One local Ray instance (2 CPUs) for the whole test session."""
+    ray = pytest.importorskip("ray", reason="Ray is not installed (locustjump[ray])")
+    if not ray.is_initialized():
+        ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False,
+                 configure_logging=False)  # fmt: skip
+    yield ray
+    ray.shutdown()
+
+
 @pytest.hookimpl(hookwrapper=True)
 def pytest_runtest_makereport(item, call):
     """With LOCUSTJUMP_NO_SKIP set (CI, which installs every system package

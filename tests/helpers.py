@@ -25,6 +25,16 @@ def assert_same_run(a: Path, b: Path) -> None:
         np.testing.assert_array_equal(ma[k], mb[k])
 
 
+def exit_status(argv: list[str]) -> int:
+    """``locustjump.cli.main``'s exit status, also for argparse's errors."""
+    from locustjump.cli import main
+
+    try:
+        return main(argv)
+    except SystemExit as e:
+        return e.code
+
+
 def wait_for_rows(out: Path, rows: int, timeout: float = 60.0) -> None:
     """Wait until run ``out`` (written by another process) has more than
     ``rows`` lines in ``metrics.csv`` (its header included)."""

@@ -1,6 +1,6 @@
 """The Ray backend: bit-identical to the thread backend for any number of
 actors, and a killed actor is replaced without changing the result. One local
-Ray instance (2 CPUs) serves the whole module."""
+Ray instance (2 CPUs, conftest) serves the whole session."""
 
 import os
 import signal
@@ -23,15 +23,6 @@ from locustjump.rollout import RolloutJob, StartStates  # noqa: E402
 from locustjump.trainer import train  # noqa: E402
 
 SMALL = TrainConfig(generations=3, optimizer=RCGAParams(population=6), seed=5)
-
-
-@pytest.fixture(scope="module")
-def local_ray():
-    if not ray.is_initialized():
-        ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False,
-                 configure_logging=False)  # fmt: skip
-    yield
-    ray.shutdown()
 
 
 @pytest.fixture(scope="module")

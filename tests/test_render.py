@@ -7,18 +7,11 @@ import shutil
 import numpy as np
 import pytest
 
+from helpers import exit_status
 from locustjump import names, render
 from locustjump.cli import main
 
 iio = pytest.importorskip("imageio.v2", reason="extra locustjump[video] not installed")
-
-
-def _status(argv):
-    """main()'s exit status, also for argparse's errors (SystemExit)."""
-    try:
-        return main(argv)
-    except SystemExit as e:
-        return e.code
 
 
 def _frames(path):
@@ -88,7 +81,7 @@ def test_render_bad_input(tmp_path, rules_dir, capsys):
     ]
     for args, msg in cases:
         capsys.readouterr()
-        assert _status(["render", *args]) == 2
+        assert exit_status(["render", *args]) == 2
         err = capsys.readouterr().err
         assert msg in err and err.count("\n") == 1, err
     # an existing video is not overwritten without --force

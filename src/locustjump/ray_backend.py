@@ -69,6 +69,27 @@ class _Worker:
         return self.backend.run(job)
 
 
+def connect(address: str | None = None):
+    """The ``ray`` module, connected: to this process's instance if it has one,
+    else a new local one (``address=None``) or the cluster at ``address``."""
+    ray = _ray()
+    if ray.is_initialized():
+        return ray
+    if address is not None:
+        _check_address(address)
+    try:
+        ray.init(
+            address=address,
+            include_dashboard=False,
+            log_to_driver=False,
+            configure_logging=False,
+        )
+    except (ConnectionError, RuntimeError, ValueError) as e:
+        msg = str(e).strip().splitlines()[0] if str(e).strip() else repr(e)
+        raise UserError(f"--address {address}: cannot join Ray ({msg})") from None
+    return ray
+
+
 class RayBackend:
     """Runs each rollout's episodes on Ray actors.
 
@@ -87,27 +108,12 @@ class RayBackend:
         actors: int | None = None,
         threads: int | None = None,
     ):
-        ray = _ray()
         self.threads = 1 if threads is None else int(threads)
         if self.threads < 1:
             raise ValueError(f"threads must be >= 1, got {threads}")
         if actors is not None and actors < 1:
             raise ValueError(f"actors must be >= 1, got {actors}")
-        if not ray.is_initialized():
-            if address is not None:
-                _check_address(address)
-            try:
-                ray.init(
-                    address=address,
-                    include_dashboard=False,
-                    log_to_driver=False,
-                    configure_logging=False,
-                )
-            except (ConnectionError, RuntimeError, ValueError) as e:
-                msg = str(e).strip().splitlines()[0] if str(e).strip() else repr(e)
-                raise UserError(
-                    f"--address {address}: cannot join Ray ({msg})"
-                ) from None
+        ray = connect(address)
         cpus = int(ray.cluster_resources().get("CPU", 0))
         if cpus < self.threads:
             raise UserError(

@@ -67,10 +67,22 @@ def _figure(path: Path, caption: str = "") -> str:
 
 
 def _inline(text: str) -> str:
-    """`code` and **bold** of one line of Markdown, HTML-escaped."""
+    """`code`, **bold** and [links](to) of one line of Markdown, HTML-escaped;
+    a link to a ``results.md`` goes to the ``report.html`` beside it."""
     out = html.escape(text, quote=False)
     out = re.sub(r"`([^`]+)`", r"<code>\1</code>", out)
+    out = re.sub(
+        r"\[([^\]]+)\]\(([^)\s]+)\)",
+        lambda m: f'<a href="{html.escape(_html_twin(m.group(2)))}">{m.group(1)}</a>',
+        out,
+    )
     return re.sub(r"\*\*([^*]+)\*\*", r"<strong>\1</strong>", out)
+
+
+def _html_twin(href: str) -> str:
+    if href.endswith(rundir.RESULTS):
+        return href[: -len(rundir.RESULTS)] + rundir.REPORT
+    return href
 
 
 def markdown_to_html(text: str, base: Path) -> str:
@@ -219,7 +231,12 @@ def write_report(path: str | os.PathLike, *, backend: Backend | None = None) -> 
     d = Path(path)
     if not d.is_dir():
         raise UserError(f"{d}: no such directory")
-    if rundir.is_reproduction(d):
+    if rundir.is_multiseed(d):
+        if not (d / rundir.RESULTS).is_file():
+            raise UserError(f"{d}: the reproduction has no {rundir.RESULTS} yet")
+        body = [markdown_to_html((d / rundir.RESULTS).read_text(), d)]
+        title = f"locustjump reproduction over seeds: {d.name}"
+    elif rundir.is_reproduction(d):
         if not (d / rundir.RESULTS).is_file():
             raise UserError(f"{d}: the reproduction has no {rundir.RESULTS} yet")
         body = [markdown_to_html((d / rundir.RESULTS).read_text(), d)]
@@ -248,7 +265,7 @@ def write_report(path: str | os.PathLike, *, backend: Backend | None = None) -> 
         raise UserError(f"{d}: holds no run (no {rundir.CONFIG}) and no reproduction")
     out = d / rundir.REPORT
     # a reproduction's results.md brings its own heading
-    heading = not rundir.is_reproduction(d)
+    heading = not (rundir.is_reproduction(d) or rundir.is_multiseed(d))
     with rundir.locked(d):
         rundir.atomic_write_text(out, _page(title, "\n".join(body), heading=heading))
     return out

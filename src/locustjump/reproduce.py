@@ -108,6 +108,23 @@ def run_rules_stage(out: Path, *, backend: Backend | None = None) -> dict[str, A
     return summary
 
 
+def budget_of(budget: str | Budget) -> Budget:
+    """The budget called ``budget`` (``UserError`` naming the choices if none)."""
+    if isinstance(budget, Budget):
+        return budget
+    if budget in BUDGETS:
+        return BUDGETS[budget]
+    raise UserError(f"unknown budget {budget!r}; choose from {', '.join(BUDGETS)}")
+
+
+def single_seed_command(
+    budget: str, seed: int, optimizer: str, out: str | os.PathLike
+) -> str:
+    """The command that makes (and continues) reproduction ``out`` alone."""
+    opt_flag = "" if optimizer == "rcga" else f" --optimizer {optimizer}"
+    return f"locustjump reproduce --budget {budget} --seed {seed}{opt_flag} --out {out}"
+
+
 def reproduce(
     out: str | os.PathLike,
     *,
@@ -129,94 +146,123 @@ def reproduce(
     reproduction shows its results so far. ``monolithic=False`` leaves out the
     baseline beyond the paper (as long as the four paper stages together at the
     paper's budget); a later call with it continues and adds it. ``optimizer``
-    (a kind of :mod:`locustjump.optimizers`) trains every stage."""
-    if isinstance(budget, Budget):
-        b = budget
-    elif budget in BUDGETS:
-        b = BUDGETS[budget]
-    else:
-        raise UserError(f"unknown budget {budget!r}; choose from {', '.join(BUDGETS)}")
-    opt_params = params_class(optimizer)(population=b.population)
+    (a kind of :mod:`locustjump.optimizers`) trains every stage. Several seeds
+    at once, on a cluster too: :func:`locustjump.multiseed.reproduce_seeds`."""
+    b = budget_of(budget)
     out = Path(out)
-    _check_dir(out, {"budget": b.name, "seed": seed, "optimizer": optimizer})
+    params_class(optimizer)  # a clear error for an unknown kind, before mkdir
+    check_reproduction(out, b, seed, optimizer)
     if backend is None:
         from locustjump.backends import ThreadBackend
 
         backend = ThreadBackend()
     out.mkdir(parents=True, exist_ok=True)
     with rundir.locked(out):
-        _check_dir(out, {"budget": b.name, "seed": seed, "optimizer": optimizer})
-        return _run_stages(
-            out, b, seed, optimizer, opt_params, backend, progress, log, command,
-            videos, monolithic,
-        )  # fmt: skip
+        start_reproduction(out, b, seed, optimizer, command)
+        for stage in stages_of(monolithic):
+            if not stage_done(out, stage, b):
+                run_stage(out, stage, b, seed, optimizer, backend, progress, log)
+                rundir.atomic_write_text(out / rundir.RESULTS, results_markdown(out))
+            elif stage != rundir.RULES_DIR:
+                log(f"[{stage}] done ({b.of(stage)} generations)")
+        return finish_reproduction(out, backend=backend, log=log, videos=videos)
 
 
-def _run_stages(
+def stages_of(monolithic: bool = True) -> tuple[str, ...]:
+    """Every stage of a reproduction, in order (the rule-based one first)."""
+    return (rundir.RULES_DIR, *(TRAINED if monolithic else PAPER_STAGES))
+
+
+def check_reproduction(out: Path, b: Budget, seed: int, optimizer: str) -> None:
+    """``out`` may hold this reproduction or nothing (``UserError`` otherwise)."""
+    _check_dir(out, {"budget": b.name, "seed": seed, "optimizer": optimizer})
+
+
+def start_reproduction(
+    out: Path, b: Budget, seed: int, optimizer: str, command: str = ""
+) -> None:
+    """Write ``out``'s marker, unless it has one (then it must match)."""
+    check_reproduction(out, b, seed, optimizer)
+    if rundir.is_reproduction(out):
+        return
+    from locustjump import __version__
+
+    rundir.write_toml(
+        out / rundir.MARKER,
+        {
+            "budget": b.name,
+            "seed": seed,
+            "optimizer": optimizer,
+            "population": b.population,
+            "generations": {s: b.of(s) for s in TRAINED},
+            "command": command or single_seed_command(b.name, seed, optimizer, out),
+            "locustjump": __version__,
+        },
+    )
+
+
+def stage_done(out: Path, stage: str, b: Budget) -> bool:
+    """Whether ``stage`` of reproduction ``out`` is trained and evaluated."""
+    d = out / stage
+    if stage == rundir.RULES_DIR:
+        return (d / rundir.RULES_SUMMARY).is_file()
+    return rundir.eval_metrics_path(d).is_file() and rundir.generations_done(d) >= b.of(
+        stage
+    )
+
+
+def run_stage(
     out: Path,
+    stage: str,
     b: Budget,
     seed: int,
     optimizer: str,
-    opt_params: Any,
     backend: Backend,
-    progress: bool,
-    log: Callable[[str], None],
-    command: str,
-    videos: bool,
-    monolithic: bool,
-) -> Path:
-    if not rundir.is_reproduction(out):
-        from locustjump import __version__
-
-        opt_flag = "" if optimizer == "rcga" else f" --optimizer {optimizer}"
-        rundir.write_toml(
-            out / rundir.MARKER,
-            {
-                "budget": b.name,
-                "seed": seed,
-                "optimizer": optimizer,
-                "population": b.population,
-                "generations": {s: b.of(s) for s in TRAINED},
-                "command": command
-                or (
-                    f"locustjump reproduce --budget {b.name} --seed {seed}"
-                    f"{opt_flag} --out {out}"
-                ),
-                "locustjump": __version__,
-            },
-        )
-
-    path = out / rundir.RESULTS
-    if not (out / rundir.RULES_DIR / rundir.RULES_SUMMARY).is_file():
+    progress: bool = False,
+    log: Callable[[str], None] = print,
+) -> float | None:
+    """Run (or continue) one stage of reproduction ``out``, whose marker exists
+    and whose required stages are done; returns the best fitness (``None`` for
+    the rule-based stage)."""
+    if stage == rundir.RULES_DIR:
         log("[rules] rule-based successive jumping, 3000 steps")
         run_rules_stage(out / rundir.RULES_DIR, backend=backend)
-    for stage in TRAINED if monolithic else PAPER_STAGES:
-        d = out / stage
-        gens = b.of(stage)
-        cfg = TrainConfig(stage, seed, gens, opt_params)
-        requires = behaviour_class(stage).requires
-        frozen = None
-        if requires:
-            frozen = rundir.FrozenGenomes.from_runs(
-                requires, {s: out / s for s in requires}, cfg.model
-            )
-        resume = rundir.is_run(d)
-        done = resume and rundir.eval_metrics_path(d).is_file()
-        if done and rundir.generations_done(d) >= gens:
-            log(f"[{stage}] done ({gens} generations)")
-            continue
-        log(f"[{stage}] {'resuming' if resume else 'training'}: {gens} generations")
-        train(cfg, d, resume=resume, backend=backend, progress=progress, frozen=frozen)
-        t0 = time.perf_counter()
-        ev = evaluate_run(d, backend=backend)
-        run_cfg, beh, best = rundir.load_run(d)
-        extra = beh.extra_evaluation(d, best.genome, run_cfg.model, backend=backend)
-        rundir.write_json(
-            rundir.eval_metrics_path(d),
-            {**ev.to_dict(), **extra, "eval_wall_s": time.perf_counter() - t0},
+        return None
+    d = out / stage
+    gens = b.of(stage)
+    cfg = TrainConfig(
+        stage, seed, gens, params_class(optimizer)(population=b.population)
+    )
+    requires = behaviour_class(stage).requires
+    frozen = None
+    if requires:
+        frozen = rundir.FrozenGenomes.from_runs(
+            requires, {s: out / s for s in requires}, cfg.model
         )
-        log(f"[{stage}] best fitness {ev.fitness:.6g}")
-        rundir.atomic_write_text(path, results_markdown(out))
+    resume = rundir.is_run(d)
+    log(f"[{stage}] {'resuming' if resume else 'training'}: {gens} generations")
+    train(cfg, d, resume=resume, backend=backend, progress=progress, frozen=frozen)
+    t0 = time.perf_counter()
+    ev = evaluate_run(d, backend=backend)
+    run_cfg, beh, best = rundir.load_run(d)
+    extra = beh.extra_evaluation(d, best.genome, run_cfg.model, backend=backend)
+    rundir.write_json(
+        rundir.eval_metrics_path(d),
+        {**ev.to_dict(), **extra, "eval_wall_s": time.perf_counter() - t0},
+    )
+    log(f"[{stage}] best fitness {ev.fitness:.6g}")
+    return ev.fitness
+
+
+def finish_reproduction(
+    out: Path,
+    *,
+    backend: Backend | None = None,
+    log: Callable[[str], None] = print,
+    videos: bool = True,
+) -> Path:
+    """Videos (``videos``), ``results.md`` and ``report.html`` of ``out``."""
+    path = out / rundir.RESULTS
     if videos:
         render_videos(out, backend=backend, log=log)
     rundir.atomic_write_text(path, results_markdown(out))

@@ -14,6 +14,8 @@ import platform
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from locustjump import rundir
 from locustjump.behaviours import behaviour_class
 
@@ -38,7 +40,7 @@ def stage_summary(d: Path) -> dict[str, Any]:
     }
 
 
-def _minutes(s: float) -> str:
+def minutes(s: float) -> str:
     return f"{s / 60:.1f} min" if s >= 60 else f"{s:.0f} s"
 
 
@@ -144,7 +146,7 @@ def _budget_table(
         "| stage | population | generations | genome evaluations | control steps | "
         "training wall time | evaluation |",
         "| --- | --- | --- | --- | --- | --- | --- |",
-        f"| rules | - | - | - | 3,000 | - | {_minutes(rules['wall_s'])} |",
+        f"| rules | - | - | - | 3,000 | - | {minutes(rules['wall_s'])} |",
     ]
     total = rules["wall_s"]
     for s, i in info.items():
@@ -152,12 +154,111 @@ def _budget_table(
         lines.append(
             f"| {s} | {marker['population']} | {i['generations']} | "
             f"{i['evaluations']:,} | {i['control_steps']:,} | "
-            f"{_minutes(i['train_wall_s'])} | {_minutes(i['eval_wall_s'])} |"
+            f"{minutes(i['train_wall_s'])} | {minutes(i['eval_wall_s'])} |"
         )
     return lines + [
-        f"| **total** | | | | | {_minutes(total)} | |",
+        f"| **total** | | | | | {minutes(total)} | |",
         "",
         "Training wall time is the sum of the per-generation times in each "
         "stage's `metrics.csv` (exact across interruptions).",
         "",
     ]
+
+
+def _num(x: float) -> str:
+    return f"{x:.0f}" if float(x).is_integer() else f"{x:.2f}"
+
+
+def _spread(values: list[float]) -> str:
+    """``median [min, max]`` of ``values`` (``n/a`` when empty)."""
+    if not values:
+        return "n/a"
+    v = np.asarray(values, dtype=float)
+    return f"{_num(float(np.median(v)))} [{_num(v.min())}, {_num(v.max())}]"
+
+
+def seeds_markdown(out: Path) -> str:
+    """``results.md`` of a reproduction over several seeds: per claim of the
+    paper the median, range and count of seeds that reproduce it; per stage the
+    best fitness; the behaviours' own sections; each seed's claims."""
+    out = Path(out)
+    marker = rundir.read_toml(out / rundir.SEEDS_MARKER)
+    seeds, stages = marker["seeds"], list(marker["generations"])
+    behaviours = {s: behaviour_class(s)() for s in stages}
+    info: dict[int, dict[str, dict[str, Any]]] = {
+        seed: {
+            s: stage_summary(rundir.seed_dir(out, seed) / s)
+            for s in stages
+            if rundir.eval_metrics_path(rundir.seed_dir(out, seed) / s).is_file()
+        }
+        for seed in seeds
+    }
+    unfinished = [seed for seed in seeds if len(info[seed]) < len(stages)]
+    lines = [
+        f"# Reproduction of Umemura et al. over {len(seeds)} seeds: budget "
+        f"`{marker['budget']}`, optimizer `{marker['optimizer']}`",
+        "",
+        f"Produced by `{marker['command']}` (locustjump {marker['locustjump']}). "
+        "Seed *s* is a reproduction of its own in `seed-<s>/`, the same as "
+        "`locustjump reproduce --seed s` writes, with its `results.md`; every "
+        "number below is read from those directories.",
+        "",
+    ]
+    if unfinished:
+        lines += [
+            f"**Not finished:** seed{'s' * (len(unfinished) > 1)} "
+            f"{', '.join(map(str, unfinished))} (rerun the command to continue).",
+            "",
+        ]
+    lines += [
+        "## The paper's claims across seeds",
+        "",
+        "| claim (paper) | paper | ours: median [min, max] | measure | reproduced in |",
+        "| --- | --- | --- | --- | --- |",
+    ]
+    for s, beh in behaviours.items():
+        runs = [
+            beh.claims(info[seed][s]["record"]) for seed in seeds if s in info[seed]
+        ]
+        for i, claim in enumerate(beh.claims(None)):
+            got = [c[i] for c in runs]
+            values = [c.value for c in got if c.value is not None]
+            count = (
+                f"{sum(bool(c.ok) for c in got)} of {len(got)} seeds" if got else "-"
+            )
+            measure = got[0].measure if got else ""
+            lines.append(
+                f"| {claim.text} | {claim.paper} | {_spread(values)} | {measure} | "
+                f"{count} |"
+            )
+    lines += [
+        "",
+        "## Best fitness per stage",
+        "",
+        "| stage | seeds done | median [min, max] | per seed |",
+        "| --- | --- | --- | --- |",
+    ]
+    for s in stages:
+        got = {seed: info[seed][s]["fitness"] for seed in seeds if s in info[seed]}
+        per = ", ".join(f"{seed}: {f:.4g}" for seed, f in got.items()) or "-"
+        lines.append(
+            f"| {s} | {len(got)} of {len(seeds)} | {_spread(list(got.values()))} | "
+            f"{per} |"
+        )
+    lines.append("")
+    for beh in behaviours.values():
+        lines += beh.across_seeds(info)
+    lines += ["## Per seed", ""]
+    for seed in seeds:
+        d = rundir.seed_dir(out, seed).name
+        lines += [
+            f"### Seed {seed} ([results]({d}/{rundir.RESULTS}))",
+            "",
+            "| claim (paper) | paper | ours | reproduced? (our criterion) |",
+            "| --- | --- | --- | --- |",
+        ]
+        for s, beh in behaviours.items():
+            record = info[seed][s]["record"] if s in info[seed] else None
+            lines += [claim.row() for claim in beh.claims(record)]
+        lines.append("")
+    return "\n".join(lines)

@@ -62,13 +62,18 @@ def settle(
 class Claim:
     """One row of ``results.md``: a claim of the paper and how ours compares.
 
-    ``ours`` is ``None`` while the stage has not run yet.
+    ``ours`` is ``None`` while the stage has not run yet. ``value`` (what
+    ``measure`` names) and ``ok`` are the number and the verdict as data, which
+    the summary across seeds reduces to a median, a range and a count.
     """
 
     text: str  # the claim, as the paper makes it (figure in parentheses)
     paper: str  # the paper's number
     ours: str | None = None  # our number
     verdict: str = "-"  # "**yes**"/"no" and our criterion in parentheses
+    value: float | None = None  # the number the verdict is about
+    ok: bool | None = None  # reproduced by our criterion
+    measure: str = ""  # what ``value`` is, with its unit
 
     def row(self) -> str:
         ours = (
@@ -228,6 +233,11 @@ class Behaviour:
     def report_section(self, stages: dict[str, dict[str, Any]]) -> list[str]:
         """Markdown lines of a ``results.md`` section of its own, from every
         finished stage's summary (``locustjump.results.stage_summary``)."""
+        return []
+
+    def across_seeds(self, seeds: dict[int, dict[str, dict[str, Any]]]) -> list[str]:
+        """Markdown lines of its own section of a reproduction over several
+        seeds: ``seeds`` maps each seed to its finished stages' summaries."""
         return []
 
     def reward(self, p: lm.LocustParams) -> StepReward:

@@ -270,6 +270,9 @@ class Composed(_Successive):
                 f"{c['jumps']} jumps, smallest ratio {fmt(low)}x (rule-based mean "
                 f"apex {fmt(c.get('rules_mean_apex_height_m'))} m)",
                 f"{yes(ok)} (>= 2 jumps, each > 2x)",
+                low,
+                ok,
+                "smallest jump / rule-based mean apex (x)",
             )
         ]
 
@@ -323,6 +326,37 @@ class Monolithic(_Successive):
             "",
             f"Composition {'helps' if better else 'does not help'} at this budget: "
             f"the composed controller's E is {times} the monolithic one's.",
+            "",
+        ]
+
+    def across_seeds(self, seeds: dict[int, dict[str, dict[str, Any]]]) -> list[str]:
+        """Composed E / monolithic E, seed by seed (same evaluation budget)."""
+        pairs = {
+            s: (st[Composed.name]["fitness"], st[self.name]["fitness"])
+            for s, st in seeds.items()
+            if Composed.name in st and self.name in st
+        }
+        lines = ["## Beyond the paper: does composition help?", ""]
+        if not pairs:
+            return lines + [
+                "No seed has both the composed and the monolithic stage yet.",
+                "",
+            ]
+        ratios = [c / m if m > 0 else float("nan") for c, m in pairs.values()]
+        wins = sum(c > m for c, m in pairs.values())
+        lines += [
+            "| seed | composed E | monolithic E | composed / monolithic |",
+            "| --- | --- | --- | --- |",
+        ]
+        lines += [
+            f"| {s} | {c:.1f} | {m:.1f} | {r:.2f}x |"
+            for (s, (c, m)), r in zip(pairs.items(), ratios, strict=True)
+        ]
+        med = float(np.nanmedian(ratios)) if any(r == r for r in ratios) else None
+        return lines + [
+            "",
+            f"Composition beats the monolithic network in {wins} of {len(pairs)} "
+            f"seeds; median ratio {fmt(med)}x.",
             "",
         ]
 

@@ -175,13 +175,25 @@ class GetUp(Behaviour):
         got_up = sum(record["metrics"]["success"])
         n_sweep = record.get("sweep_states", 180)
         swept = record.get("sweep_got_up")
+        ok = swept is not None and swept >= PAPER_SWEEP
         return [
-            Claim(five.text, five.paper, f"{got_up} of 5", yes(got_up == 5)),
+            Claim(
+                five.text,
+                five.paper,
+                f"{got_up} of 5",
+                yes(got_up == 5),
+                got_up,
+                got_up == 5,
+                "training states got up (of 5)",
+            ),  # fmt: skip
             Claim(
                 sweep.text,
                 sweep.paper,
                 f"{fmt(swept, 'd')} of {n_sweep}",
-                f"{yes(swept is not None and swept >= PAPER_SWEEP)} (>= 65)",
+                f"{yes(ok)} (>= 65)",
+                swept,
+                ok,
+                f"sweep states got up (of {n_sweep})",
             ),
         ]
 

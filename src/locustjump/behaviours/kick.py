@@ -179,6 +179,9 @@ class Kick(Behaviour):
                 f"{fmt(ratio)}x ({fmt(k['apex_height_m'])} m vs "
                 f"{fmt(k.get('rules_first_apex_height_m'))} m)",
                 f"{yes(ok)} (>= {KICK_RATIO_OK}x)",
+                ratio,
+                ok,
+                "apex / rule-based first apex (x)",
             )
         ]
 

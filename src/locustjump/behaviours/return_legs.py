@@ -119,6 +119,9 @@ class ReturnLegs(Behaviour):
                 f"largest final error {err:.2f} deg",
                 f"{yes(err <= LEGS_ERROR_OK_DEG)} (every joint within "
                 f"{LEGS_ERROR_OK_DEG:g} deg)",
+                err,
+                err <= LEGS_ERROR_OK_DEG,
+                "largest final joint error (deg)",
             )
         ]
 

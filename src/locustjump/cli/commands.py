@@ -127,20 +127,39 @@ def cmd_sweep_getup(args: argparse.Namespace) -> int:
 
 
 def cmd_reproduce(args: argparse.Namespace) -> int:
-    from locustjump.reproduce import reproduce
+    from locustjump.reproduce import reproduce, single_seed_command
 
-    opt = "" if args.optimizer == "rcga" else f" --optimizer {args.optimizer}"
+    common = {
+        "budget": args.budget,
+        "optimizer": args.optimizer,
+        "progress": not args.quiet,
+        "videos": not args.no_videos,
+        "monolithic": not args.no_monolithic,
+    }
+    if args.seeds is not None:
+        from locustjump.multiseed import reproduce_seeds
+
+        if args.actors is not None:
+            raise UserError(
+                "--actors is for one seed; with --seeds every stage is a Ray task "
+                "(--threads CPUs each)"
+            )
+        opt = "" if args.optimizer == "rcga" else f" --optimizer {args.optimizer}"
+        seeds = ",".join(map(str, args.seeds))
+        path = reproduce_seeds(
+            args.out, args.seeds, backend=args.backend, threads=args.threads,
+            address=args.address, **common,
+            command=f"locustjump reproduce --budget {args.budget} --seeds {seeds}"
+            f"{opt} --backend {args.backend} --out {args.out}",
+        )  # fmt: skip
+        print(path.read_text().split("## Best fitness")[0].rstrip())
+        return 0
     path = reproduce(
         args.out,
-        budget=args.budget,
         seed=args.seed,
-        optimizer=args.optimizer,
         backend=_backend(args),
-        progress=not args.quiet,
-        command=f"locustjump reproduce --budget {args.budget} --seed {args.seed}"
-        f"{opt} --out {args.out}",
-        videos=not args.no_videos,
-        monolithic=not args.no_monolithic,
+        command=single_seed_command(args.budget, args.seed, args.optimizer, args.out),
+        **common,
     )
     print(path.read_text().split("## Beyond")[0].rstrip())
     return 0

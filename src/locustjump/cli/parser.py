@@ -30,6 +30,15 @@ def _int_at_least(name: str, lo: int):
     return parse
 
 
+def _seeds(text: str) -> list[int]:
+    from locustjump.multiseed import parse_seeds
+
+    try:
+        return parse_seeds(text)
+    except ValueError as e:
+        raise argparse.ArgumentTypeError(str(e)) from None
+
+
 def _finite_float(name: str):
     def parse(text: str) -> float:
         try:
@@ -233,8 +242,10 @@ def build_parser() -> argparse.ArgumentParser:
         description=(
             "Rule-based baseline, kick, getup (+ sweep), return-legs, composed and "
             "a monolithic baseline, each in DIR/<stage>/; DIR/results.md compares "
-            "each claim of the paper with ours. Rerun the same command to continue "
-            "after an interruption."
+            "each claim of the paper with ours. With --seeds, one such reproduction "
+            "per seed in DIR/seed-<s>/ and DIR/results.md across seeds (with "
+            "--backend ray, every stage of every seed is a task on the cluster). "
+            "Rerun the same command to continue after an interruption."
         ),
     )
     p.add_argument(
@@ -247,7 +258,15 @@ def build_parser() -> argparse.ArgumentParser:
             "2 h on 2 cores, plus about 2.5 h for the monolithic baseline)"
         ),
     )
-    p.add_argument("--seed", type=_int_at_least("--seed", 0), default=0)
+    which = p.add_mutually_exclusive_group()
+    which.add_argument("--seed", type=_int_at_least("--seed", 0), default=0)
+    which.add_argument(
+        "--seeds",
+        type=_seeds,
+        metavar="LIST",
+        help="several seeds, e.g. 0-9 or 0,3,7: DIR/seed-<s>/ each, results "
+        "across seeds in DIR/results.md (a rerun may add seeds)",
+    )
     _add_optimizer(p, "rcga")
     _add_backend(p)
     p.add_argument("--out", required=True, metavar="DIR")

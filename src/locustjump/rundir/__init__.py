@@ -19,6 +19,11 @@ A **rule-based run** (``locustjump rules``, a reproduction's ``rules/``):
 A **reproduction** (``locustjump reproduce``): ``reproduce.toml``,
 ``results.md``, ``report.html`` and one subdirectory per stage.
 
+A **reproduction over several seeds** (``locustjump reproduce --seeds``):
+``seeds.toml``, ``results.md`` and ``report.html`` across seeds, and one
+reproduction per seed in ``seed-<s>/``, the same as ``reproduce --seed s``
+writes alone.
+
 Every file is written atomically (temporary file, fsync, rename), so a crash
 leaves the previous complete version, and read without pickle (TOML, JSON,
 CSV, ``.npz`` with ``allow_pickle=False``).
@@ -42,9 +47,11 @@ from locustjump.rundir.files import (
 from locustjump.rundir.layout import *  # noqa: F403
 from locustjump.rundir.layout import (
     eval_metrics_path,
+    is_multiseed,
     is_reproduction,
     is_rules_run,
     is_run,
+    seed_dir,
 )
 from locustjump.rundir.lock import locked
 from locustjump.rundir.run import (

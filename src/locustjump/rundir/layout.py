@@ -22,6 +22,7 @@ RULES_SUMMARY = "summary.json"
 TRAJECTORY_CSV = "trajectory.csv"
 TRAJECTORY_PNG = "trajectory.png"
 MARKER = "reproduce.toml"  # what makes a directory a reproduction
+SEEDS_MARKER = "seeds.toml"  # ... a reproduction over several seeds
 RESULTS = "results.md"
 FORMAT = 1  # version of checkpoint.npz / best.npz
 
@@ -43,6 +44,15 @@ def is_run(d: Path) -> bool:
 
 def is_reproduction(d: Path) -> bool:
     return (Path(d) / MARKER).is_file()
+
+
+def is_multiseed(d: Path) -> bool:
+    return (Path(d) / SEEDS_MARKER).is_file()
+
+
+def seed_dir(d: Path, seed: int) -> Path:
+    """Where a reproduction over several seeds keeps seed ``seed``'s."""
+    return Path(d) / f"seed-{seed}"
 
 
 def is_rules_run(d: Path) -> bool:
