@@ -58,7 +58,7 @@ def main() -> None:
             generations=args.generations,
             threads=args.threads,
             repeats=args.repeats,
-            frozen=simple,
+            simple=simple,
         )
         est = t.median_wall_s * PAPER_GENERATIONS
         total += est

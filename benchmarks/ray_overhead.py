@@ -1,0 +1,261 @@
+"""What Ray costs, measured on this machine against the thread backend.
+
+Part ``generations``: for each stage, the same training run (population 50,
+same seed) with ``--backend threads`` and with ``--backend ray`` (a local Ray
+instance with this machine's CPUs; 1 thread per actor, one actor per CPU, and
+one actor with every CPU), alternated ``--rounds`` times so that drift of the
+machine hits both alike; the per-generation wall times of ``metrics.csv``
+after a warm-up are pooled and their medians compared. The runs must end with
+the identical best genome (checked). Issue target: ray / threads <= 1.10 for
+getup and composed.
+
+Part ``serial``: the parts of a Ray generation that do not shrink with more
+nodes, for the cluster model in docs/performance.md: the round trip of an
+empty actor call, and the time to ship a stage's rollout job out and its
+result back, per genome and per episode.
+
+Part ``seeds``: ``reproduce --seeds 0,1 --budget quick --backend ray`` (tasks
+of ``--threads`` CPUs) against the two single-seed reproductions back to back
+on the thread backend, videos off. Issue target: <= 1.05.
+
+    python benchmarks/ray_overhead.py [--parts generations serial seeds]
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import statistics
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).parent))
+from generation import simple_genomes  # noqa: E402
+from locustjump import rundir  # noqa: E402
+from locustjump.backends import ThreadBackend  # noqa: E402
+from locustjump.behaviours import get_behaviour  # noqa: E402
+from locustjump.config import TrainConfig  # noqa: E402
+from locustjump.optimizers import RCGAParams  # noqa: E402
+from locustjump.trainer import train  # noqa: E402
+
+STAGES = ("kick", "getup", "return-legs", "composed")
+TARGET_GEN, TARGET_SEEDS = 1.10, 1.05
+
+
+def _ray(cpus: int):
+    import ray
+
+    if not ray.is_initialized():
+        ray.init(
+            num_cpus=cpus,
+            include_dashboard=False,
+            log_to_driver=False,
+            configure_logging=False,
+        )
+    return ray
+
+
+def _train(stage, gens, backend, simple, tmp) -> tuple[list[float], bytes]:
+    cfg = TrainConfig(stage, 0, gens, RCGAParams(population=50))
+    out = Path(tempfile.mkdtemp(dir=tmp)) / "run"
+    kw = {"frozen": simple} if stage == "composed" else {}
+    train(cfg, out, progress=False, backend=backend, **kw)
+    wall = [float(w) for w in rundir.read_metrics(out / rundir.METRICS)["wall_s"]]
+    return wall, (out / rundir.BEST).read_bytes()
+
+
+def part_generations(args, cpus: int) -> None:
+    from locustjump.ray_backend import RayBackend
+
+    _ray(cpus)
+    simple = simple_genomes(args.simple_from)
+    backends = {
+        f"threads({cpus})": ThreadBackend(cpus),
+        f"ray {cpus}x1": RayBackend(actors=cpus, threads=1),
+        f"ray 1x{cpus}": RayBackend(actors=1, threads=cpus),
+    }
+    print(
+        f"\n== per generation, population 50, {args.generations} generations "
+        f"({args.warmup} warm-up) x {args.rounds} rounds, medians =="
+    )
+    names = list(backends)
+    head = "".join(f"{n:>14}" for n in names)
+    print(f"{'stage':<12}{head}" + "".join(f"{'/' + n[4:]:>12}" for n in names[1:]))
+    with tempfile.TemporaryDirectory() as tmp:
+        for stage in args.stages:
+            walls: dict[str, list[float]] = {n: [] for n in names}
+            bests = set()
+            for _ in range(args.rounds):
+                for n, b in backends.items():
+                    w, best = _train(
+                        stage, args.warmup + args.generations, b, simple, tmp
+                    )
+                    walls[n] += w[args.warmup :]
+                    bests.add(best)
+            assert len(bests) == 1, f"{stage}: backends disagree"
+            med = {n: statistics.median(w) for n, w in walls.items()}
+            ratios = [med[n] / med[names[0]] for n in names[1:]]
+            print(
+                f"{stage:<12}"
+                + "".join(f"{med[n] * 1e3:>12.1f}ms" for n in names)
+                + "".join(f"{r:>12.3f}" for r in ratios),
+                flush=True,
+            )
+    print(
+        f"(ratio ray / threads; target <= {TARGET_GEN} for getup and composed; "
+        "every backend ended with the same best genome)"
+    )
+
+
+def part_serial(args, cpus: int) -> None:
+    ray = _ray(cpus)
+
+    @ray.remote(num_cpus=0)
+    class Echo:
+        def size(self, job) -> int:
+            return job.params.nbytes + job.starts.qpos.nbytes
+
+        def result(self, like):
+            return like
+
+    a = Echo.remote()
+    reps = args.repeats
+
+    def median_s(fn) -> float:
+        fn()
+        ts = []
+        for _ in range(reps):
+            t0 = time.perf_counter()
+            fn()
+            ts.append(time.perf_counter() - t0)
+        return statistics.median(ts)
+
+    @ray.remote(num_cpus=0)
+    def noop():
+        return None
+
+    print(f"\n== serial parts of a Ray generation (median of {reps}) ==")
+    rtt = median_s(lambda: ray.get(a.result.remote(None)))
+    task = median_s(lambda: ray.get(noop.remote()))
+    print(
+        f"actor call round trip (empty): {rtt * 1e6:.0f} us; "
+        f"task round trip: {task * 1e6:.0f} us"
+    )
+    simple = simple_genomes(args.simple_from).genomes
+    rng = np.random.default_rng(0)
+    print(
+        f"{'stage':<12} {'episodes':>8} {'job MB':>8} {'result MB':>10} "
+        f"{'ship job':>10} {'get result':>11} {'per genome':>11} {'per episode':>12}"
+    )
+    for stage in args.stages:
+        beh = get_behaviour(stage, simple if stage == "composed" else None)
+        p = TrainConfig(stage).model
+        g = beh.controller.random_genomes(rng, 50)
+        res = beh.simulate(g, p, record=beh.record, backend=ThreadBackend(cpus))
+        from locustjump.rollout import RolloutJob
+
+        starts = beh.start_states(p)
+        n = len(starts) * 50
+        job = RolloutJob(
+            p,
+            beh.controller,
+            np.repeat(g, len(starts), axis=0),
+            starts.take(np.tile(np.arange(len(starts)), 50)),
+            beh.n_steps,
+            beh.record,
+        )
+        ship = median_s(lambda job=job: ray.get(a.size.remote(job))) - rtt
+        back = (
+            median_s(lambda res=res: ray.get(a.result.remote(res))) - rtt
+        )  # both ways
+        mb_job = (
+            job.params.nbytes
+            + sum(getattr(job.starts, f).nbytes for f in ("qpos", "qvel", "ctrl"))
+        ) / 1e6
+        mb_res = sum(v.nbytes for v in res.records.values()) / 1e6
+        print(
+            f"{stage:<12} {n:>8} {mb_job:>8.2f} {mb_res:>10.2f} "
+            f"{ship * 1e3:>8.2f}ms {back * 1e3:>9.2f}ms "
+            f"{ship / 50 * 1e6:>9.1f}us {back / n * 1e6:>10.1f}us",
+            flush=True,
+        )
+    print(
+        "(ship job: driver -> actor; get result: the result to the actor and "
+        "back, an upper bound of one way; same node: Ray's shared-memory "
+        "object store, a cluster adds the network)"
+    )
+
+
+def part_seeds(args, cpus: int) -> None:
+    from locustjump.multiseed import reproduce_seeds
+    from locustjump.reproduce import reproduce
+
+    _ray(cpus)
+    quiet = {"progress": False, "log": lambda s: None, "videos": False}
+    print(f"\n== two seeds x quick budget, {cpus} CPUs ==")
+    with tempfile.TemporaryDirectory() as tmp:
+        t0 = time.perf_counter()
+        for s in (0, 1):
+            reproduce(
+                Path(tmp) / f"single-{s}",
+                budget="quick",
+                seed=s,
+                backend=ThreadBackend(cpus),
+                **quiet,
+            )
+        back_to_back = time.perf_counter() - t0
+        print(f"back to back, threads({cpus}): {back_to_back / 60:.2f} min", flush=True)
+        for threads in args.seed_threads:
+            t0 = time.perf_counter()
+            reproduce_seeds(
+                Path(tmp) / f"ray-{threads}",
+                [0, 1],
+                budget="quick",
+                backend="ray",
+                threads=threads,
+                **quiet,
+            )
+            wall = time.perf_counter() - t0
+            print(
+                f"reproduce --seeds 0,1 --backend ray --threads {threads}: "
+                f"{wall / 60:.2f} min = {wall / back_to_back:.3f}x back to back "
+                f"(target <= {TARGET_SEEDS})",
+                flush=True,
+            )
+            for s in (0, 1):
+                a = rundir.seed_dir(Path(tmp) / f"ray-{threads}", s) / "composed"
+                b = Path(tmp) / f"single-{s}" / "composed"
+                assert (a / rundir.BEST).read_bytes() == (b / rundir.BEST).read_bytes()
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument(
+        "--parts",
+        nargs="+",
+        default=["generations", "serial", "seeds"],
+        choices=["generations", "serial", "seeds"],
+    )
+    ap.add_argument("--stages", nargs="+", choices=STAGES, default=list(STAGES))
+    ap.add_argument("--generations", type=int, default=4, help="measured per run")
+    ap.add_argument("--warmup", type=int, default=1)
+    ap.add_argument("--rounds", type=int, default=2)
+    ap.add_argument("--repeats", type=int, default=9, help="serial: repeats")
+    ap.add_argument("--seed-threads", type=int, nargs="+", default=[2, 1])
+    ap.add_argument("--simple-from", metavar="DIR", default="results/quick-seed0")
+    args = ap.parse_args()
+    cpus = os.cpu_count() or 1
+    import mujoco
+    import ray
+
+    print(f"mujoco {mujoco.__version__}, ray {ray.__version__}, {cpus} CPUs")
+    for part in args.parts:
+        globals()[f"part_{part}"](args, cpus)
+
+
+if __name__ == "__main__":
+    main()
