@@ -73,10 +73,11 @@ def part_generations(args, cpus: int) -> None:
 
     _ray(cpus)
     simple = simple_genomes(args.simple_from)
+    # made anew for every run and closed after it: actors hold their CPUs
     backends = {
-        f"threads({cpus})": ThreadBackend(cpus),
-        f"ray {cpus}x1": RayBackend(actors=cpus, threads=1),
-        f"ray 1x{cpus}": RayBackend(actors=1, threads=cpus),
+        f"threads({cpus})": lambda: ThreadBackend(cpus),
+        f"ray {cpus}x1": lambda: RayBackend(actors=cpus, threads=1),
+        f"ray 1x{cpus}": lambda: RayBackend(actors=1, threads=cpus),
     }
     print(
         f"\n== per generation, population 50, {args.generations} generations "
@@ -90,10 +91,12 @@ def part_generations(args, cpus: int) -> None:
             walls: dict[str, list[float]] = {n: [] for n in names}
             bests = set()
             for _ in range(args.rounds):
-                for n, b in backends.items():
+                for n, make in backends.items():
+                    b = make()
                     w, best = _train(
                         stage, args.warmup + args.generations, b, simple, tmp
                     )
+                    getattr(b, "close", lambda: None)()
                     walls[n] += w[args.warmup :]
                     bests.add(best)
             assert len(bests) == 1, f"{stage}: backends disagree"

@@ -38,6 +38,12 @@ def test_ray_is_bit_identical_to_threads(local_ray, reference, tmp_path, actors)
     out = tmp_path / "run"
     train(SMALL, out, progress=False, backend=backend)
     assert_same_run(reference, out)
+    # close() gives the actors' CPUs back at once (another backend may need them)
+    backend.close()
+    deadline = time.monotonic() + 30
+    while ray.available_resources().get("CPU", 0) < 2:
+        assert time.monotonic() < deadline, ray.available_resources()
+        time.sleep(0.05)
 
 
 def _job(params, n_steps: int) -> RolloutJob:

@@ -152,6 +152,15 @@ class RayBackend:
                 out.append(ray.get(self._replace(i).pid.remote()))
         return out
 
+    def close(self) -> None:
+        """End the actors now and give their CPUs back to the cluster (they
+        also end when this backend is garbage-collected); a later rollout
+        makes new ones."""
+        ray = _ray()
+        for actor in self._actors:
+            ray.kill(actor)
+        self._actors = []
+
     def run(self, job: RolloutJob) -> RolloutResult:
         ray = _ray()
         actors = self._ensure()
