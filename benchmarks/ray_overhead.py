@@ -157,7 +157,7 @@ def part_serial(args, cpus: int) -> None:
     for stage in args.stages:
         beh = get_behaviour(stage, simple if stage == "composed" else None)
         p = TrainConfig(stage).model
-        g = beh.controller.random_genomes(rng, 50)
+        g = rng.uniform(-1.0, 1.0, (50, beh.controller.num_params))
         res = beh.simulate(g, p, record=beh.record, backend=ThreadBackend(cpus))
         from locustjump.rollout import RolloutJob
 

@@ -34,6 +34,9 @@ from locustjump.optimizers import RCGAParams, params_class
 #: LocustParams fields newer than the shipped runs: in the config hash only
 #: when not at their default (the default is the creature those runs used)
 _LATER_MODEL_FIELDS = ("strut_stiffness", "strut_damping", "strut_swing")
+#: the engine path of a run whose config holds no ``engine`` (made before the
+#: compiled path): in the hash only when it is another one
+_ENGINE_BEFORE = lm.ENGINES[0]
 
 
 @dataclass(frozen=True)
@@ -97,6 +100,8 @@ class TrainConfig:
         for name in _LATER_MODEL_FIELDS:
             if d["model"][name] == getattr(default, name):
                 del d["model"][name]
+        if d["model"]["engine"] == _ENGINE_BEFORE:
+            del d["model"]["engine"]
         text = json.dumps(d, sort_keys=True)
         return hashlib.sha256(text.encode()).hexdigest()[:16]
 
@@ -115,6 +120,8 @@ class TrainConfig:
             elif key == "optimizer":
                 kwargs["optimizer"] = optimizer_from_table(value, source)
             elif key == "model":
+                if isinstance(value, dict) and "engine" not in value:
+                    value = {**value, "engine": _ENGINE_BEFORE}
                 kwargs[key] = from_table(lm.LocustParams, value, key, source)
             else:
                 raise UserError(f"{source}: unknown key {key!r}")

@@ -147,6 +147,13 @@ class MLP:
     ) -> tuple[np.ndarray, np.ndarray]:
         return self.apply(prepared, obs), memory
 
+    def kernel(self, prepared: MLPWeights) -> tuple:
+        """The compiled path's form of ``act`` (:mod:`locustjump.kernels`):
+        the weights episode-last and the output code."""
+        from locustjump.kernels import OUTPUTS, soa
+
+        return ("mlp", tuple(soa(w) for w in prepared), OUTPUTS[self.output])
+
     def random_genomes(
         self, rng: np.random.Generator, n: int, scale: float = 1.0
     ) -> np.ndarray:

@@ -15,6 +15,7 @@ from locustjump.rollout import (
     StartStates,
     _Recorder,
     observer,
+    record_shapes,
 )
 
 
@@ -91,7 +92,9 @@ def reference_rollout(job: RolloutJob) -> RolloutResult:
         d = ep.data
         prepared = ctl.prepare(job.params[e : e + 1])
         memory = np.zeros((1, ctl.memory_size))
-        rec = _Recorder(job.record, 1, job.n_steps, ep.model.nq, ctl.memory_size)
+        rec = _Recorder(
+            job.record, 1, job.n_steps, record_shapes(ep.model.nq, ctl.memory_size)
+        )
         rec.write(0, d.qpos[None], obs, d.ctrl[None], memory)
         steps = job.n_steps
         for t in range(job.n_steps):

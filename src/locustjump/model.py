@@ -26,6 +26,7 @@ defaults were chosen.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 from functools import lru_cache
@@ -34,7 +35,11 @@ import mujoco
 import numpy as np
 
 from locustjump import names
-from locustjump.params import CONTROL_DT, LocustParams  # noqa: F401 (re-exported)
+from locustjump.params import (  # noqa: F401 (re-exported)
+    CONTROL_DT,
+    ENGINES,
+    LocustParams,
+)
 
 SETTLE_TIME = 1.0  # (Seconds) settling before t = 0
 READY_KEY = names.READY_KEY  # keyframe of the settled start state (Fig. 4)
@@ -247,8 +252,9 @@ def _compiled(p: LocustParams) -> mujoco.MjModel:
 
 
 def load_model(p: LocustParams = LocustParams()) -> mujoco.MjModel:
-    """A fresh ``MjModel`` of the creature (compiled once per parameter set)."""
-    m = _compiled(p)
+    """A fresh ``MjModel`` of the creature (compiled once per parameter set;
+    the ``engine`` field is not physics)."""
+    m = _compiled(dataclasses.replace(p, engine=ENGINES[0]))
     return copy_model(m)
 
 

@@ -32,6 +32,7 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from locustjump import model as lm
 from locustjump import rundir
 from locustjump.behaviours import behaviour_class
 from locustjump.errors import UserError
@@ -113,6 +114,7 @@ def reproduce_seeds(
     *,
     budget: str | Budget = "quick",
     optimizer: str = "rcga",
+    engine: str | None = None,
     backend: str = "threads",
     threads: int | None = None,
     address: str | None = None,
@@ -128,7 +130,8 @@ def reproduce_seeds(
 
     ``backend`` is ``"threads"`` (here, seed after seed, ``threads`` threads)
     or ``"ray"`` (every stage a task on the cluster at ``address``, default a
-    local instance, ``threads`` CPUs each). A rerun may add seeds."""
+    local instance, ``threads`` CPUs each). ``engine``: as for
+    :func:`~locustjump.reproduce.reproduce`. A rerun may add seeds."""
     b = budget_of(budget)
     params_class(optimizer)
     seeds = [int(s) for s in seeds]
@@ -137,10 +140,14 @@ def reproduce_seeds(
     if backend not in ("threads", "ray"):
         raise UserError(f"unknown backend {backend!r}; choose from threads, ray")
     out = Path(out)
-    want = {"budget": b.name, "optimizer": optimizer, "population": b.population}
+    if engine is None and rundir.is_multiseed(out):
+        engine = rundir.read_toml(out / rundir.SEEDS_MARKER).get("engine")
+    engine = engine or lm.LocustParams().engine
+    want = {"budget": b.name, "optimizer": optimizer, "engine": engine,
+            "population": b.population}  # fmt: skip
     _check_dir(out, want)
     for s in seeds:
-        check_reproduction(rundir.seed_dir(out, s), b, s, optimizer)
+        check_reproduction(rundir.seed_dir(out, s), b, s, optimizer, engine)
     ray = None
     if backend == "ray":
         from locustjump.ray_backend import connect
@@ -177,12 +184,11 @@ def reproduce_seeds(
         for s, d in dirs.items():
             d.mkdir(exist_ok=True)
             held.enter_context(rundir.locked(d))
-            start_reproduction(
-                d, b, s, optimizer, single_seed_command(b.name, s, optimizer, d)
-            )
+            alone = single_seed_command(b.name, s, optimizer, d, engine)
+            start_reproduction(d, b, s, optimizer, alone, engine)
         if ray is None:
             for s, d in dirs.items():
-                log(f"[seed {s}] {single_seed_command(b.name, s, optimizer, d)}")
+                log(f"[seed {s}] seed {s} of {len(dirs)}")
                 reproduce(
                     d, budget=b, seed=s, optimizer=optimizer, backend=here,
                     progress=progress, log=lambda m, s=s: log(f"[seed {s}] {m}"),

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from locustjump import model as lm
 from locustjump import rundir
 from locustjump.behaviours import behaviour_class
 from locustjump.config import TrainConfig
@@ -74,13 +75,22 @@ BUDGETS: dict[str, Budget] = {
 }
 
 
+#: what a marker written before these keys existed means by their absence
+_BEFORE = {"optimizer": "rcga", "engine": "numpy"}
+
+
+def engine_of(out: Path) -> str:
+    """The engine path (``LocustParams.engine``) of reproduction ``out``."""
+    return {**_BEFORE, **rundir.read_toml(Path(out) / rundir.MARKER)}["engine"]
+
+
 def _check_dir(out: Path, want: dict[str, Any]) -> None:
     """A new reproduction needs an absent or empty directory; an existing one
     must have been started with the same budget, seed and optimizer."""
     if out.exists() and not out.is_dir():
         raise UserError(f"--out {out}: exists and is not a directory")
     if rundir.is_reproduction(out):
-        have = {"optimizer": "rcga", **rundir.read_toml(out / rundir.MARKER)}
+        have = {**_BEFORE, **rundir.read_toml(out / rundir.MARKER)}
         for k, v in want.items():
             if have.get(k) != v:
                 raise UserError(
@@ -118,11 +128,17 @@ def budget_of(budget: str | Budget) -> Budget:
 
 
 def single_seed_command(
-    budget: str, seed: int, optimizer: str, out: str | os.PathLike
+    budget: str,
+    seed: int,
+    optimizer: str,
+    out: str | os.PathLike,
+    engine: str | None = None,
 ) -> str:
     """The command that makes (and continues) reproduction ``out`` alone."""
-    opt_flag = "" if optimizer == "rcga" else f" --optimizer {optimizer}"
-    return f"locustjump reproduce --budget {budget} --seed {seed}{opt_flag} --out {out}"
+    flags = "" if optimizer == "rcga" else f" --optimizer {optimizer}"
+    if engine not in (None, lm.LocustParams().engine):
+        flags += f" --engine {engine}"
+    return f"locustjump reproduce --budget {budget} --seed {seed}{flags} --out {out}"
 
 
 def reproduce(
@@ -131,6 +147,7 @@ def reproduce(
     budget: str | Budget = "quick",
     seed: int = 0,
     optimizer: str = "rcga",
+    engine: str | None = None,
     backend: Backend | None = None,
     progress: bool = True,
     log: Callable[[str], None] = print,
@@ -146,19 +163,21 @@ def reproduce(
     reproduction shows its results so far. ``monolithic=False`` leaves out the
     baseline beyond the paper (as long as the four paper stages together at the
     paper's budget); a later call with it continues and adds it. ``optimizer``
-    (a kind of :mod:`locustjump.optimizers`) trains every stage. Several seeds
+    (a kind of :mod:`locustjump.optimizers`) trains every stage; ``engine``
+    (``LocustParams.engine``; default: the one ``out`` was started with, else
+    the default path) computes every stage's controllers. Several seeds
     at once, on a cluster too: :func:`locustjump.multiseed.reproduce_seeds`."""
     b = budget_of(budget)
     out = Path(out)
     params_class(optimizer)  # a clear error for an unknown kind, before mkdir
-    check_reproduction(out, b, seed, optimizer)
+    check_reproduction(out, b, seed, optimizer, engine)
     if backend is None:
         from locustjump.backends import ThreadBackend
 
         backend = ThreadBackend()
     out.mkdir(parents=True, exist_ok=True)
     with rundir.locked(out):
-        start_reproduction(out, b, seed, optimizer, command)
+        start_reproduction(out, b, seed, optimizer, command, engine)
         for stage in stages_of(monolithic):
             if not stage_done(out, stage, b):
                 run_stage(out, stage, b, seed, optimizer, backend, progress, log)
@@ -173,18 +192,33 @@ def stages_of(monolithic: bool = True) -> tuple[str, ...]:
     return (rundir.RULES_DIR, *(TRAINED if monolithic else PAPER_STAGES))
 
 
-def check_reproduction(out: Path, b: Budget, seed: int, optimizer: str) -> None:
-    """``out`` may hold this reproduction or nothing (``UserError`` otherwise)."""
-    _check_dir(out, {"budget": b.name, "seed": seed, "optimizer": optimizer})
+def check_reproduction(
+    out: Path, b: Budget, seed: int, optimizer: str, engine: str | None = None
+) -> None:
+    """``out`` may hold this reproduction or nothing (``UserError`` otherwise);
+    ``engine=None`` accepts the one it was started with."""
+    if engine is not None and engine not in lm.ENGINES:
+        raise UserError(
+            f"unknown engine {engine!r}; choose from {', '.join(lm.ENGINES)}"
+        )
+    want = {"budget": b.name, "seed": seed, "optimizer": optimizer}
+    _check_dir(out, want if engine is None else {**want, "engine": engine})
 
 
 def start_reproduction(
-    out: Path, b: Budget, seed: int, optimizer: str, command: str = ""
+    out: Path,
+    b: Budget,
+    seed: int,
+    optimizer: str,
+    command: str = "",
+    engine: str | None = None,
 ) -> None:
-    """Write ``out``'s marker, unless it has one (then it must match)."""
-    check_reproduction(out, b, seed, optimizer)
+    """Write ``out``'s marker, unless it has one (then it must match);
+    ``engine`` defaults to ``LocustParams``'s."""
+    check_reproduction(out, b, seed, optimizer, engine)
     if rundir.is_reproduction(out):
         return
+    engine = engine or lm.LocustParams().engine
     from locustjump import __version__
 
     rundir.write_toml(
@@ -193,9 +227,11 @@ def start_reproduction(
             "budget": b.name,
             "seed": seed,
             "optimizer": optimizer,
+            "engine": engine,
             "population": b.population,
             "generations": {s: b.of(s) for s in TRAINED},
-            "command": command or single_seed_command(b.name, seed, optimizer, out),
+            "command": command
+            or single_seed_command(b.name, seed, optimizer, out, engine),
             "locustjump": __version__,
         },
     )
@@ -231,7 +267,11 @@ def run_stage(
     d = out / stage
     gens = b.of(stage)
     cfg = TrainConfig(
-        stage, seed, gens, params_class(optimizer)(population=b.population)
+        stage,
+        seed,
+        gens,
+        params_class(optimizer)(population=b.population),
+        lm.LocustParams(engine=engine_of(out)),
     )
     requires = behaviour_class(stage).requires
     frozen = None

@@ -196,14 +196,26 @@ def rollout_bytes(
 ) -> float:
     """Estimated memory of a rollout of ``n`` episodes: the records, one
     simulation each (its arena dominates) and the per-episode arrays."""
-    dims = {"qpos": m.nq, "obs": sensors.N_INPUTS, "ctrl": sensors.N_ACTUATORS,
-            "memory": nmem}  # fmt: skip
-    per_step = sum(dims[k] for k in record) * 8.0
+    dims = record_shapes(m.nq, nmem)
+    per_step = sum(dims[k][0] for k in record) * 8.0
     per_episode = (n_steps + 1) * per_step + m.narena + 64 * 1024
     return float(n) * per_episode
 
 
+def record_shapes(nq: int, nmem: int) -> dict[str, tuple[int, ...]]:
+    """Per-step shape of each recordable field."""
+    return {"qpos": (nq,), "obs": (sensors.N_INPUTS,), "ctrl": (sensors.N_ACTUATORS,),
+            "memory": (nmem,)}  # fmt: skip
+
+
 def run_batch(batch: Batch, job: RolloutJob) -> RolloutResult:
+    """Every episode of ``job`` on ``batch``, on the job's engine path
+    (``job.model_params.engine``): the NumPy loop below (the reference) or
+    the compiled one (:mod:`locustjump.compiled`)."""
+    if job.model_params.engine == "numba":
+        from locustjump.compiled import run_compiled
+
+        return run_compiled(batch, job)
     m = batch.model
     p = job.model_params
     idx = lm.ModelIndex.of(m)
@@ -220,7 +232,7 @@ def run_batch(batch: Batch, job: RolloutJob) -> RolloutResult:
     ctl = job.controller
     prepared = ctl.prepare(job.params)
     memory = np.zeros((n, ctl.memory_size))
-    rec = _Recorder(job.record, n, T, m.nq, ctl.memory_size)
+    rec = _Recorder(job.record, n, T, record_shapes(m.nq, ctl.memory_size))
     observe = observer(idx, p)
     obs = observe(qpos, sens)
     rec.write(0, qpos, obs, ctrl, memory)
@@ -298,13 +310,7 @@ def _progress(job: RolloutJob):
 class _Recorder:
     """Per-step copies of the requested fields; failed episodes repeat their last."""
 
-    def __init__(self, names: Sequence[str], n: int, T: int, nq: int, nmem: int):
-        shape = {
-            "qpos": (nq,),
-            "obs": (sensors.N_INPUTS,),
-            "ctrl": (sensors.N_ACTUATORS,),
-            "memory": (nmem,),
-        }
+    def __init__(self, names: Sequence[str], n: int, T: int, shape: dict):
         self.arrays = {k: np.empty((n, T + 1, *shape[k])) for k in names}
         self._order = tuple(RECORDABLE.index(k) for k in names)
 

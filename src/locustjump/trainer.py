@@ -15,6 +15,7 @@ fitness.
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import time
 from dataclasses import dataclass
@@ -312,6 +313,7 @@ def resolve_config(
     seed: int | None = None,
     population: int | None = None,
     generations: int | None = None,
+    engine: str | None = None,
 ) -> TrainConfig:
     """The configuration ``locustjump train`` runs: a resumed run's own
     ``config.toml`` (options may only extend ``generations``), or the defaults,
@@ -333,8 +335,10 @@ def resolve_config(
             "optimizer": cfg.optimizer.kind,
             "seed": cfg.seed,
             "population": cfg.population,
+            "engine": cfg.model.engine,
         }
-        given = {"optimizer": optimizer, "seed": seed, "population": population}
+        given = {"optimizer": optimizer, "seed": seed, "population": population,
+                 "engine": engine}  # fmt: skip
         for key, value in given.items():
             if value not in (None, have[key]):
                 raise UserError(
@@ -356,6 +360,8 @@ def resolve_config(
                 raise UserError(f"--optimizer: {e}") from None
         if seed is not None:
             cfg = cfg.replace(seed=seed)
+        if engine is not None:
+            cfg = cfg.replace(model=dataclasses.replace(cfg.model, engine=engine))
         if population is not None:
             try:
                 opt = cfg.optimizer.replace(population=population)

@@ -83,6 +83,20 @@ class SwitchingController:
     def prepare(self, params: np.ndarray) -> tuple[MLPWeights, MLPWeights]:
         return self.switcher.prepare(params), self.network.prepare(self.simple)
 
+    def kernel(self, prepared: tuple[MLPWeights, MLPWeights]) -> tuple:
+        """The compiled path's form of ``act`` (:func:`locustjump.kernels.switch`):
+        the switcher's and the simple networks' weights episode-last."""
+        from locustjump.kernels import soa
+
+        switcher, simple = prepared
+        n = switcher.w1.shape[0]
+        # (3, ..., n): every episode holds each simple network
+        nets = tuple(
+            np.ascontiguousarray(np.broadcast_to(w[..., None], (*w.shape, n)))
+            for w in simple
+        )
+        return ("switch", tuple(soa(w) for w in switcher), nets, self.every)
+
     def select(self, switcher: MLPWeights, obs: np.ndarray) -> np.ndarray:
         """(n,) index of the simple behaviour with the largest switcher output."""
         return np.argmax(self.switcher.apply(switcher, obs), axis=1)

@@ -56,6 +56,7 @@ def cmd_train(args: argparse.Namespace) -> int:
         seed=args.seed,
         population=args.population,
         generations=args.generations,
+        engine=args.engine,
     )
     requires = behaviour_class(args.behaviour).requires
     dirs = {name: getattr(args, frozen_dest(name)) for name in frozen_options()}
@@ -132,6 +133,7 @@ def cmd_reproduce(args: argparse.Namespace) -> int:
     common = {
         "budget": args.budget,
         "optimizer": args.optimizer,
+        "engine": args.engine,
         "progress": not args.quiet,
         "videos": not args.no_videos,
         "monolithic": not args.no_monolithic,
@@ -145,6 +147,7 @@ def cmd_reproduce(args: argparse.Namespace) -> int:
                 "(--threads CPUs each)"
             )
         opt = "" if args.optimizer == "rcga" else f" --optimizer {args.optimizer}"
+        opt += "" if args.engine is None else f" --engine {args.engine}"
         seeds = ",".join(map(str, args.seeds))
         path = reproduce_seeds(
             args.out, args.seeds, backend=args.backend, threads=args.threads,
@@ -158,7 +161,9 @@ def cmd_reproduce(args: argparse.Namespace) -> int:
         args.out,
         seed=args.seed,
         backend=_backend(args),
-        command=single_seed_command(args.budget, args.seed, args.optimizer, args.out),
+        command=single_seed_command(
+            args.budget, args.seed, args.optimizer, args.out, args.engine
+        ),
         **common,
     )
     print(path.read_text().split("## Beyond")[0].rstrip())

@@ -117,6 +117,13 @@ def _add_optimizer(p: argparse.ArgumentParser, default: str | None) -> None:
         help="rcga: the paper's GA (default); cma: CMA-ES (pycma); random: "
         "random search",
     )
+    p.add_argument(
+        "--engine",
+        choices=lm.ENGINES,
+        help="how the controllers are computed between physics steps: numba "
+        "(compiled, the default for new runs) or numpy (the reference; runs "
+        "made before the compiled path); recorded in config.toml",
+    )
 
 
 def build_parser() -> argparse.ArgumentParser:

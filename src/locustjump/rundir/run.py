@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import os
 from dataclasses import dataclass
@@ -141,9 +142,15 @@ class FrozenGenomes:
                 raise UserError(
                     f"--{name} {d}: holds a {cfg.behaviour!r} run, not {name!r}"
                 )
-            if cfg.model != model:
+            # the same creature; the engine path may differ (frozen networks
+            # evolved on NumPy run as well compiled, within a few ulp a step)
+            if dataclasses.replace(cfg.model, engine=model.engine) != model:
                 ours = cfg.replace(model=model).to_dict()["model"]
-                diff = [k for k, v in cfg.to_dict()["model"].items() if ours[k] != v]
+                diff = [
+                    k
+                    for k, v in cfg.to_dict()["model"].items()
+                    if ours[k] != v and k != "engine"
+                ]
                 raise UserError(
                     f"--{name} {d}: its model parameters differ from this run's "
                     f"({', '.join(diff)})"

@@ -1,0 +1,100 @@
+"""The engine's serial work per control step, apart from the C physics.
+
+Per control step the engine runs, on one core whatever the thread count:
+sensors, the networks, the actuation rule, the touch reduction, the
+instability check, the recording and the Python side of the ``Batch.rollout``
+call. This script times whole rollouts of ``--episodes`` episodes (random
+9-10-4 networks from the five getup start states, tiled, ``--steps`` control
+steps, the training record) and the time spent inside the C call of each
+``Batch.rollout`` (the physics, stepped on the batch's thread pool); the
+difference per control step is the serial work. Prints medians of
+``--repeats`` rollouts per engine path, next to the physics time of the same
+step on 1 and 2 threads. Issue target: <= 20 us at 50 episodes, <= 50 us at
+250.
+
+    python benchmarks/serial.py [--episodes 50 250] [--engines numpy numba]
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import time
+
+import numpy as np
+from mujoco.batch import Batch
+
+from locustjump import model as lm
+from locustjump.behaviours import get_behaviour
+from locustjump.controller import MLP
+from locustjump.rollout import ENGINES, RolloutJob, run_batch
+
+TARGETS = {50: 20.0, 250: 50.0}
+
+
+class _TimedCore:
+    """Stands in for a Batch's C object; adds up the time inside rollout()."""
+
+    def __init__(self, core):
+        self._core = core
+        self.seconds = 0.0
+
+    def rollout(self, *args):
+        t0 = time.perf_counter()
+        try:
+            return self._core.rollout(*args)
+        finally:
+            self.seconds += time.perf_counter() - t0
+
+    def __getattr__(self, name):
+        return getattr(self._core, name)
+
+
+def measure(n: int, steps: int, threads: int, engine: str) -> tuple[float, float]:
+    """(serial, physics) seconds per control step of one rollout."""
+    p = lm.LocustParams()
+    beh = get_behaviour("getup")
+    starts = beh.start_states(p)
+    genomes = MLP().random_genomes(np.random.default_rng(n), n)
+    job = RolloutJob(p, MLP(), genomes, starts.take(np.arange(n) % len(starts)),
+                     steps, beh.record, engine=engine)  # fmt: skip
+    batch = Batch(lm.load_model(p), n, threads, persistent=True)
+    core = _TimedCore(batch._b)
+    object.__setattr__(batch, "_b", core)
+    t0 = time.perf_counter()
+    run_batch(batch, job)
+    wall = time.perf_counter() - t0
+    return (wall - core.seconds) / steps, core.seconds / steps
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--episodes", type=int, nargs="+", default=[50, 250])
+    ap.add_argument("--steps", type=int, default=300)
+    ap.add_argument("--repeats", type=int, default=5)
+    ap.add_argument("--engines", nargs="+", choices=ENGINES, default=list(ENGINES))
+    args = ap.parse_args()
+    print(f"{args.steps} control steps, median of {args.repeats} rollouts; "
+          "us per control step")  # fmt: skip
+    print(f"{'episodes':>8} {'engine':>7} {'serial':>8} {'physics 1t':>11} "
+          f"{'physics 2t':>11} {'target':>7}")  # fmt: skip
+    for n in args.episodes:
+        for engine in args.engines:
+            measure(n, 20, 1, engine)  # warm-up (and the kernel's compilation)
+            serial, phys = {}, {}
+            for threads in (1, 2):
+                runs = [measure(n, args.steps, threads, engine)
+                        for _ in range(args.repeats)]  # fmt: skip
+                serial[threads] = statistics.median(r[0] for r in runs)
+                phys[threads] = statistics.median(r[1] for r in runs)
+            s = serial[1] * 1e6
+            target = TARGETS.get(n)
+            ok = ""
+            if target is not None:
+                ok = f"{'ok' if s <= target else 'OVER'} {target:g}"
+            print(f"{n:>8} {engine:>7} {s:>8.1f} {phys[1] * 1e6:>11.1f} "
+                  f"{phys[2] * 1e6:>11.1f} {ok:>7}", flush=True)  # fmt: skip
+
+
+if __name__ == "__main__":
+    main()
