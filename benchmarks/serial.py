@@ -27,7 +27,8 @@ from mujoco.batch import Batch
 from locustjump import model as lm
 from locustjump.behaviours import get_behaviour
 from locustjump.controller import MLP
-from locustjump.rollout import ENGINES, RolloutJob, run_batch
+from locustjump.params import ENGINES
+from locustjump.rollout import RolloutJob, run_batch
 
 TARGETS = {50: 20.0, 250: 50.0}
 
@@ -52,12 +53,12 @@ class _TimedCore:
 
 def measure(n: int, steps: int, threads: int, engine: str) -> tuple[float, float]:
     """(serial, physics) seconds per control step of one rollout."""
-    p = lm.LocustParams()
+    p = lm.LocustParams(engine=engine)
     beh = get_behaviour("getup")
     starts = beh.start_states(p)
     genomes = MLP().random_genomes(np.random.default_rng(n), n)
     job = RolloutJob(p, MLP(), genomes, starts.take(np.arange(n) % len(starts)),
-                     steps, beh.record, engine=engine)  # fmt: skip
+                     steps, beh.record)  # fmt: skip
     batch = Batch(lm.load_model(p), n, threads, persistent=True)
     core = _TimedCore(batch._b)
     object.__setattr__(batch, "_b", core)

@@ -54,7 +54,7 @@ _TQ1 = 2.23548839060100448583e3
 _TQ2 = 4.84406305325125486048e3
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
 def exp(x: float) -> float:
     """e^x (x clamped to [-700, 700]), Cephes' algorithm, branch-free."""
     x = min(max(x, _EXP_LO), _EXP_HI)
@@ -67,7 +67,32 @@ def exp(x: float) -> float:
     return (1.0 + 2.0 * (p / (q - p))) * _POW2[int(px) + _POW2_BIAS]
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", error_model="numpy")
+def _exp_tanh(x: float) -> float:
+    """e^x for x in [0, 40] (tanh's range), as :func:`exp` but with 2^n made
+    by exact multiplications and selects instead of a table (vectorizes)."""
+    px = np.floor(_LOG2E * x + 0.5)
+    r = x - px * _C1
+    r = r - px * _C2
+    rr = r * r
+    p = r * ((_EP0 * rr + _EP1) * rr + _EP2)
+    q = ((_EQ0 * rr + _EQ1) * rr + _EQ2) * rr + _EQ3
+    y = 1.0 + 2.0 * (p / (q - p))
+    # 2^px, px in [0, 58], bit by bit (unrolled: selects of exact products)
+    t = px >= 32.0
+    px, y = (px - 32.0, y * 4294967296.0) if t else (px, y)
+    t = px >= 16.0
+    px, y = (px - 16.0, y * 65536.0) if t else (px, y)
+    t = px >= 8.0
+    px, y = (px - 8.0, y * 256.0) if t else (px, y)
+    t = px >= 4.0
+    px, y = (px - 4.0, y * 16.0) if t else (px, y)
+    t = px >= 2.0
+    px, y = (px - 2.0, y * 4.0) if t else (px, y)
+    return y * 2.0 if px >= 1.0 else y
+
+
+@njit(cache=True, inline="always", error_model="numpy")
 def tanh(x: float) -> float:
     """tanh(x), Cephes' algorithm; both branches computed, one selected (so
     that a loop over episodes vectorizes)."""
@@ -75,12 +100,12 @@ def tanh(x: float) -> float:
     s = x * x
     ratio = ((_TP0 * s + _TP1) * s + _TP2) / (((s + _TQ0) * s + _TQ1) * s + _TQ2)
     small = x + x * s * ratio
-    big = 1.0 - 2.0 / (exp(min(z, 20.0) * 2.0) + 1.0)
+    big = 1.0 - 2.0 / (_exp_tanh(min(z, 20.0) * 2.0) + 1.0)
     big = -big if x < 0.0 else big
     return small if z < 0.625 else big
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def mlp(w1, b1, w2, b2, x, out, hidden, output):
     """One network per episode, episode-last: ``w1 (h, i, n)``, ``b1 (h, n)``,
     ``w2 (o, h, n)``, ``b2 (o, n)``, inputs ``x (i, n)``; writes ``out (o, n)``
@@ -101,16 +126,18 @@ def mlp(w1, b1, w2, b2, x, out, hidden, output):
         for j in range(1, h):
             for e in range(n):
                 out[k, e] += w2[k, j, e] * hidden[j, e]
-        for e in range(n):
-            v = out[k, e] + b2[k, e]
-            if output == DELTA:
-                v = tanh(v) * MAX_DELTA
-            elif output == SIGMOID:
-                v = 1.0 / (1.0 + exp(-v))
-            out[k, e] = v
+        if output == DELTA:
+            for e in range(n):
+                out[k, e] = tanh(out[k, e] + b2[k, e]) * MAX_DELTA
+        elif output == SIGMOID:
+            for e in range(n):
+                out[k, e] = 1.0 / (1.0 + exp(-(out[k, e] + b2[k, e])))
+        else:
+            for e in range(n):
+                out[k, e] += b2[k, e]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def switch(t, every, sw, nets, memory, x, out, choice, scratch, hidden):
     """The composed switcher: every ``every`` steps the switcher network ``sw``
     (sigmoid outputs) picks, per episode, the simple network with the largest
@@ -135,12 +162,13 @@ def switch(t, every, sw, nets, memory, x, out, choice, scratch, hidden):
                     out[k, e] = scratch[k, e]
 
 
-@njit(cache=True)
-def sense_and_check(sub, ids, sens, qpos, warn_bad, unstable, newly) -> int:
+@njit(cache=True, error_model="numpy")
+def sense_and_check(sub, ids, sens, qpos, warning, unstable, newly) -> int:
     """Per-substep sensordata ``sub (len(ids), substeps, ns)`` of simulations
     ``ids`` reduced to their maximum into ``sens``; flags in ``newly`` the
-    episodes not yet ``unstable`` whose warning counters rose or whose ``qpos``
-    is not finite, and returns how many."""
+    episodes not yet ``unstable`` whose warning counters (``warning (n,
+    mjNWARNING, 2)``, the count is ``[..., 1]``) rose or whose ``qpos`` is not
+    finite, and returns how many."""
     for i in range(ids.shape[0]):
         e = ids[i]
         for c in range(sub.shape[2]):
@@ -151,8 +179,8 @@ def sense_and_check(sub, ids, sens, qpos, warn_bad, unstable, newly) -> int:
     count = 0
     for e in range(qpos.shape[0]):
         bad = False
-        for w in range(warn_bad.shape[1]):
-            bad |= warn_bad[e, w] > 0
+        for w in range(warning.shape[1]):
+            bad |= warning[e, w, 1] > 0
         for j in range(qpos.shape[1]):
             bad |= not math.isfinite(qpos[e, j])
         newly[e] = bad and not unstable[e]
@@ -160,7 +188,7 @@ def sense_and_check(sub, ids, sens, qpos, warn_bad, unstable, newly) -> int:
     return count
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def observe(qpos, sens, joints, touch, body_length, obs):
     """The 9 paper inputs, episode-last ``obs (9, n)``: the arithmetic of
     :func:`locustjump.sensors.paper_inputs`, operation for operation."""
@@ -179,7 +207,7 @@ def observe(qpos, sens, joints, touch, body_length, obs):
         obs[8, e] = 1.0 - (x * x + y * y) * 2.0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def record(t, qpos, obs, ctrl, memory, rq, ro, rc, rm, frozen, any_frozen):
     """Row ``t`` of the records ``rq, ro, rc, rm`` (an empty array: not
     recorded); episodes ``frozen`` repeat row ``t - 1``."""
@@ -206,7 +234,7 @@ def record(t, qpos, obs, ctrl, memory, rq, ro, rc, rm, frozen, any_frozen):
                 rm[e, t, :] = rm[e, src, :]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def actuate(ctrl, deltas, lo, hi, unstable, any_unstable):
     """``ctrl = clip(ctrl + clip(deltas, +-10 deg), range)`` for the episodes
     still running (the arithmetic of :func:`locustjump.sensors.apply_deltas`);
@@ -224,9 +252,9 @@ def soa(a: np.ndarray) -> np.ndarray:
     return np.ascontiguousarray(np.moveaxis(np.asarray(a, dtype=np.float64), 0, -1))
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def post_step(
-    t, check, sub, ids, sens, qpos, warn_bad, unstable, newly, joints, touch,
+    t, check, sub, ids, sens, qpos, warning, unstable, newly, joints, touch,
     body_length, obs, ctrl, memory, rq, ro, rc, rm, any_frozen,
 ):  # fmt: skip
     """After the physics of control step ``t - 1`` (``t == 0``: the start
@@ -234,7 +262,7 @@ def post_step(
     the number of newly failed episodes, and does nothing else, if any), then
     observe into ``obs`` and record row ``t``."""
     if check:
-        count = sense_and_check(sub, ids, sens, qpos, warn_bad, unstable, newly)
+        count = sense_and_check(sub, ids, sens, qpos, warning, unstable, newly)
         if count:
             return count
     observe(qpos, sens, joints, touch, body_length, obs)
@@ -242,17 +270,36 @@ def post_step(
     return 0
 
 
-@njit(cache=True)
-def act_mlp(w1, b1, w2, b2, output, obs, deltas, hidden, ctrl, lo, hi, unstable,
-            any_unstable):  # fmt: skip
-    """One network per episode, then the actuation rule."""
-    mlp(w1, b1, w2, b2, obs, deltas, hidden, output)
-    actuate(ctrl, deltas, lo, hi, unstable, any_unstable)
+@njit(cache=True, error_model="numpy")
+def step_mlp(
+    t, check, sub, ids, sens, qpos, warning, unstable, newly, joints, touch,
+    body_length, obs, ctrl, memory, rq, ro, rc, rm, any_frozen, act, net, output,
+    deltas, hidden, lo, hi,
+):  # fmt: skip
+    """:func:`post_step`, then (``act``, when no episode newly failed) one
+    network per episode (``net``: w1, b1, w2, b2) and the actuation rule:
+    everything between two physics calls in one call."""
+    count = post_step(t, check, sub, ids, sens, qpos, warning, unstable, newly,
+                      joints, touch, body_length, obs, ctrl, memory, rq, ro, rc,
+                      rm, any_frozen)  # fmt: skip
+    if count == 0 and act:
+        w1, b1, w2, b2 = net
+        mlp(w1, b1, w2, b2, obs, deltas, hidden, output)
+        actuate(ctrl, deltas, lo, hi, unstable, any_frozen)
+    return count
 
 
-@njit(cache=True)
-def act_switch(t, every, sw, nets, memory, obs, deltas, choice, scratch, hidden,
-               ctrl, lo, hi, unstable, any_unstable):  # fmt: skip
-    """The composed switcher's step, then the actuation rule."""
-    switch(t, every, sw, nets, memory, obs, deltas, choice, scratch, hidden)
-    actuate(ctrl, deltas, lo, hi, unstable, any_unstable)
+@njit(cache=True, error_model="numpy")
+def step_switch(
+    t, check, sub, ids, sens, qpos, warning, unstable, newly, joints, touch,
+    body_length, obs, ctrl, memory, rq, ro, rc, rm, any_frozen, act, every, sw,
+    nets, deltas, choice, scratch, hidden, lo, hi,
+):  # fmt: skip
+    """:func:`step_mlp` for the composed switcher (:func:`switch`)."""
+    count = post_step(t, check, sub, ids, sens, qpos, warning, unstable, newly,
+                      joints, touch, body_length, obs, ctrl, memory, rq, ro, rc,
+                      rm, any_frozen)  # fmt: skip
+    if count == 0 and act:
+        switch(t, every, sw, nets, memory, obs, deltas, choice, scratch, hidden)
+        actuate(ctrl, deltas, lo, hi, unstable, any_frozen)
+    return count
