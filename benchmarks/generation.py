@@ -17,6 +17,7 @@ issue target: ratio <= 1.15.
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import statistics
 import sys
 import tempfile
@@ -103,6 +104,7 @@ def measure(
     threads: int = 2,
     repeats: int = 3,
     simple: rundir.FrozenGenomes | None = None,
+    engine: str | None = None,
 ) -> GenerationTimes:
     """Train ``warmup + generations`` generations, then time physics-only
     replays of the measured generations' episodes."""
@@ -111,6 +113,9 @@ def measure(
         generations=warmup + generations,
         optimizer=RCGAParams(population=population),
     )
+    if engine is not None:
+        cfg = cfg.replace(model=dataclasses.replace(cfg.model, engine=engine))
+    simple = simple if get_behaviour(behaviour, None).requires else None
     beh = get_behaviour(behaviour, None if simple is None else simple.genomes)
     p = cfg.model
     backend = ThreadBackend(threads)
@@ -122,7 +127,8 @@ def measure(
                    backend=backend, **kw)  # fmt: skip
         ga = make_optimizer(cfg.optimizer, beh.controller.num_params, cfg.seed)
         ga.load_state(rundir.read_checkpoint(
-            out / rundir.CHECKPOINT, cfg.replace(simple=_digest(simple)),
+            out / rundir.CHECKPOINT,
+            cfg.replace(simple=_digest(simple) if beh.requires else ""),
             beh.controller.num_params)[2])  # fmt: skip
         train(cfg, out, progress=False, backend=backend, resume=True, **kw)
         metrics = rundir.read_metrics(out / rundir.METRICS)

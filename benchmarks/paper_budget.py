@@ -39,10 +39,12 @@ def main() -> None:
     ap.add_argument("--repeats", type=int, default=2, help="physics-only repeats")
     ap.add_argument("--simple-from", metavar="DIR", help="a reproduction directory")
     ap.add_argument("--stages", nargs="+", choices=STAGES, default=list(STAGES))
+    ap.add_argument("--engine", choices=("numpy", "numba"), default="numba")
     args = ap.parse_args()
 
     print(
-        f"mujoco {mujoco.__version__}, {args.threads} threads, population 50, "
+        f"mujoco {mujoco.__version__}, {args.threads} threads, engine {args.engine}, "
+        "population 50, "
         f"{args.generations} measured generations per stage after {args.warmup}"
     )
     print(
@@ -59,6 +61,7 @@ def main() -> None:
             threads=args.threads,
             repeats=args.repeats,
             simple=simple,
+            engine=args.engine,
         )
         est = t.median_wall_s * PAPER_GENERATIONS
         total += est

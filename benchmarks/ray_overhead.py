@@ -14,6 +14,10 @@ nodes, for the cluster model in docs/performance.md: the round trip of an
 empty actor call, and the time to ship a stage's rollout job out and its
 result back, per genome and per episode.
 
+Part ``driver``: the driver's own work per generation (optimizer, fitness,
+metrics, checkpoint), i.e. the generation's wall time minus the time inside
+the backend: it does not shrink with more nodes.
+
 Part ``seeds``: ``reproduce --seeds 0,1 --budget quick --backend ray`` (tasks
 of ``--threads`` CPUs) against the two single-seed reproductions back to back
 on the thread backend, videos off. Issue target: <= 1.05.
@@ -193,6 +197,42 @@ def part_serial(args, cpus: int) -> None:
     )
 
 
+class _TimedThreads(ThreadBackend):
+    """The thread backend, adding up the seconds inside run()."""
+
+    seconds = 0.0
+
+    def run(self, job):
+        t0 = time.perf_counter()
+        try:
+            return super().run(job)
+        finally:
+            self.seconds += time.perf_counter() - t0
+
+
+def part_driver(args, cpus: int) -> None:
+    """Per generation, the driver's own work (optimizer, fitness, metrics,
+    checkpoint): generation wall time minus the time inside the backend."""
+    simple = simple_genomes(args.simple_from)
+    print(f"\n== driver work per generation (population 50, threads({cpus})) ==")
+    print(f"{'stage':<12} {'generation':>11} {'in backend':>11} {'driver':>9}")
+    with tempfile.TemporaryDirectory() as tmp:
+        for stage in args.stages:
+            b = _TimedThreads(cpus)
+            _train(stage, args.warmup, b, simple, tmp)  # warm-up (compile, caches)
+            b.seconds = 0.0
+            wall, _ = _train(stage, args.generations, b, simple, tmp)
+            total = sum(wall)
+            per = total / len(wall)
+            inside = b.seconds / len(wall)
+            driver = per - inside
+            print(
+                f"{stage:<12} {per * 1e3:>9.1f}ms {inside * 1e3:>9.1f}ms "
+                f"{driver * 1e3:>7.1f}ms",
+                flush=True,
+            )
+
+
 def part_seeds(args, cpus: int) -> None:
     from locustjump.multiseed import reproduce_seeds
     from locustjump.reproduce import reproduce
@@ -240,8 +280,8 @@ def main() -> None:
     ap.add_argument(
         "--parts",
         nargs="+",
-        default=["generations", "serial", "seeds"],
-        choices=["generations", "serial", "seeds"],
+        default=["generations", "serial", "driver", "seeds"],
+        choices=["generations", "serial", "driver", "seeds"],
     )
     ap.add_argument("--stages", nargs="+", choices=STAGES, default=list(STAGES))
     ap.add_argument("--generations", type=int, default=4, help="measured per run")

@@ -7,10 +7,11 @@ call. This script times whole rollouts of ``--episodes`` episodes (random
 9-10-4 networks from the five getup start states, tiled, ``--steps`` control
 steps, the training record) and the time spent inside the C call of each
 ``Batch.rollout`` (the physics, stepped on the batch's thread pool); the
-difference per control step is the serial work. Prints medians of
-``--repeats`` rollouts per engine path, next to the physics time of the same
-step on 1 and 2 threads. Issue target: <= 20 us at 50 episodes, <= 50 us at
-250.
+difference is the serial work. Rollouts of two lengths separate its per-step
+part (the slope) from the per-rollout part (setup, record allocation).
+Prints medians of ``--repeats`` rollouts per engine path, next to the physics
+time of one control step on 1 and 2 threads. Issue target: <= 20 us a step at
+50 episodes, <= 50 us at 250.
 
     python benchmarks/serial.py [--episodes 50 250] [--engines numpy numba]
 """
@@ -57,8 +58,9 @@ def measure(n: int, steps: int, threads: int, engine: str) -> tuple[float, float
     beh = get_behaviour("getup")
     starts = beh.start_states(p)
     genomes = MLP().random_genomes(np.random.default_rng(n), n)
-    job = RolloutJob(p, MLP(), genomes, starts.take(np.arange(n) % len(starts)),
-                     steps, beh.record)  # fmt: skip
+    job = RolloutJob(
+        p, MLP(), genomes, starts.take(np.arange(n) % len(starts)), steps, beh.record
+    )
     batch = Batch(lm.load_model(p), n, threads, persistent=True)
     core = _TimedCore(batch._b)
     object.__setattr__(batch, "_b", core)
@@ -71,30 +73,53 @@ def measure(n: int, steps: int, threads: int, engine: str) -> tuple[float, float
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--episodes", type=int, nargs="+", default=[50, 250])
-    ap.add_argument("--steps", type=int, default=300)
+    ap.add_argument(
+        "--steps",
+        type=int,
+        nargs=2,
+        default=[100, 400],
+        help="two episode lengths: the per-step part is the slope",
+    )
     ap.add_argument("--repeats", type=int, default=5)
     ap.add_argument("--engines", nargs="+", choices=ENGINES, default=list(ENGINES))
     args = ap.parse_args()
-    print(f"{args.steps} control steps, median of {args.repeats} rollouts; "
-          "us per control step")  # fmt: skip
-    print(f"{'episodes':>8} {'engine':>7} {'serial':>8} {'physics 1t':>11} "
-          f"{'physics 2t':>11} {'target':>7}")  # fmt: skip
+    t1, t2 = args.steps
+    print(
+        f"median of {args.repeats} rollouts of {t1} and of {t2} control steps; "
+        "serial per step = slope, per rollout = the rest (setup, records)"
+    )
+    print(
+        f"{'episodes':>8} {'engine':>7} {'serial us/step':>15} {'per rollout':>12} "
+        f"{'physics 1t':>11} {'physics 2t':>11} {'target':>8}"
+    )
     for n in args.episodes:
         for engine in args.engines:
             measure(n, 20, 1, engine)  # warm-up (and the kernel's compilation)
-            serial, phys = {}, {}
-            for threads in (1, 2):
-                runs = [measure(n, args.steps, threads, engine)
-                        for _ in range(args.repeats)]  # fmt: skip
-                serial[threads] = statistics.median(r[0] for r in runs)
-                phys[threads] = statistics.median(r[1] for r in runs)
-            s = serial[1] * 1e6
+            runs = {
+                (T, th): [measure(n, T, th, engine) for _ in range(args.repeats)]
+                for T in (t1, t2)
+                for th in (1, 2)
+            }
+            total = {
+                k: statistics.median(r[0] * k[0] for r in v) for k, v in runs.items()
+            }
+            phys = {
+                th: statistics.median(r[1] for r in runs[(t2, th)]) for th in (1, 2)
+            }
+            per_step = (total[(t2, 1)] - total[(t1, 1)]) / (t2 - t1)
+            fixed = total[(t1, 1)] - t1 * per_step
+            s = per_step * 1e6
             target = TARGETS.get(n)
-            ok = ""
-            if target is not None:
-                ok = f"{'ok' if s <= target else 'OVER'} {target:g}"
-            print(f"{n:>8} {engine:>7} {s:>8.1f} {phys[1] * 1e6:>11.1f} "
-                  f"{phys[2] * 1e6:>11.1f} {ok:>7}", flush=True)  # fmt: skip
+            ok = (
+                ""
+                if target is None
+                else f"{'ok' if s <= target else 'OVER'} {target:g}"
+            )
+            print(
+                f"{n:>8} {engine:>7} {s:>15.1f} {fixed * 1e3:>10.2f}ms "
+                f"{phys[1] * 1e6:>11.1f} {phys[2] * 1e6:>11.1f} {ok:>8}",
+                flush=True,
+            )
 
 
 if __name__ == "__main__":

@@ -55,29 +55,30 @@ _TQ2 = 4.84406305325125486048e3
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def exp(x: float) -> float:
-    """e^x (x clamped to [-700, 700]), Cephes' algorithm, branch-free."""
-    x = min(max(x, _EXP_LO), _EXP_HI)
-    px = math.floor(_LOG2E * x + 0.5)
-    r = x - px * _C1
-    r = r - px * _C2
-    rr = r * r
-    p = r * ((_EP0 * rr + _EP1) * rr + _EP2)
-    q = ((_EQ0 * rr + _EQ1) * rr + _EQ2) * rr + _EQ3
-    return (1.0 + 2.0 * (p / (q - p))) * _POW2[int(px) + _POW2_BIAS]
-
-
-@njit(cache=True, inline="always", error_model="numpy")
-def _exp_tanh(x: float) -> float:
-    """e^x for x in [0, 40] (tanh's range), as :func:`exp` but with 2^n made
-    by exact multiplications and selects instead of a table (vectorizes)."""
+def _exp_parts(x: float) -> tuple[float, float]:
+    """``(n, m)`` with e^x = m * 2^n: Cephes' reduction to r in [-ln2/2,
+    ln2/2] and its (3,4) Pade form of e^r."""
     px = np.floor(_LOG2E * x + 0.5)
     r = x - px * _C1
     r = r - px * _C2
     rr = r * r
     p = r * ((_EP0 * rr + _EP1) * rr + _EP2)
     q = ((_EQ0 * rr + _EQ1) * rr + _EQ2) * rr + _EQ3
-    y = 1.0 + 2.0 * (p / (q - p))
+    return px, 1.0 + 2.0 * (p / (q - p))
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def exp(x: float) -> float:
+    """e^x (x clamped to [-700, 700]), Cephes' algorithm, branch-free."""
+    px, y = _exp_parts(min(max(x, _EXP_LO), _EXP_HI))
+    return y * _POW2[int(px) + _POW2_BIAS]
+
+
+@njit(cache=True, inline="always", error_model="numpy")
+def _exp_tanh(x: float) -> float:
+    """e^x for x in [0, 40] (tanh's range), as :func:`exp` but with 2^n made
+    by exact multiplications and selects instead of a table (vectorizes)."""
+    px, y = _exp_parts(x)
     # 2^px, px in [0, 58], bit by bit (unrolled: selects of exact products)
     t = px >= 32.0
     px, y = (px - 32.0, y * 4294967296.0) if t else (px, y)

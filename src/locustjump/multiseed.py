@@ -287,7 +287,8 @@ def _run_on_ray(ray, out, dirs, b, optimizer, threads, monolithic, here,
                 raise UserError(f"[seed {s}] {stage}: {cause}") from None
             bar.update()
             shown = "" if fitness is None else f"best fitness {fitness:.6g}, "
-            bar.write(f"[seed {s}] {stage}: {shown}{minutes(wall)}")
+            with tqdm.external_write_mode():  # the line above the bar
+                log(f"[seed {s}] {stage}: {shown}{minutes(wall)}")
             left[s] -= 1
             if left[s] == 0:
                 done_seeds.append(s)

@@ -223,6 +223,21 @@ def cmd_report(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_compare(args: argparse.Namespace) -> int:
+    from locustjump.compare import convergence_figure, load_groups, table
+
+    figure = None
+    if args.figure is not None:
+        figure = rundir.prepare_out_file(
+            args.figure, force=args.force, option="--figure"
+        )
+    groups = load_groups(args.dirs, by=args.by)
+    print(table(groups, args.reference))
+    if figure is not None:
+        print(f"wrote {convergence_figure(groups, figure)}")
+    return 0
+
+
 def frozen_options() -> tuple[str, ...]:
     """Every run some behaviour builds on (``--kick DIR`` ...), in order."""
     from locustjump.behaviours import behaviour_class, behaviour_names

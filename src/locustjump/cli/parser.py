@@ -366,4 +366,25 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("dir", metavar="DIR")
     _add_backend(p)
     p.set_defaults(func=cmd.cmd_report)
+
+    from locustjump.compare import KEYS
+
+    p = sub.add_parser(
+        "compare",
+        help="compare training runs as samples (e.g. optimizers at equal budget)",
+        description=(
+            "Group run directories by a config key (default the optimizer) and "
+            "print per group the best fitness median, quartiles and range, and a "
+            "two-sided Mann-Whitney U test against the reference group (needs "
+            "SciPy: locustjump[study]); --figure draws the convergence curves "
+            "(median and interquartile band against genome evaluations)."
+        ),
+    )
+    p.add_argument("dirs", nargs="+", metavar="DIR", help="training run directories")
+    p.add_argument("--by", choices=KEYS, default="optimizer")
+    p.add_argument("--reference", help="the group the others are tested against "
+                   "(default: the first)")  # fmt: skip
+    p.add_argument("--figure", metavar="FILE", help="write the convergence curves")
+    p.add_argument("--force", action="store_true", help="overwrite FILE")
+    p.set_defaults(func=cmd.cmd_compare)
     return ap

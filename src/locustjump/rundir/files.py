@@ -138,13 +138,16 @@ def prepare_out_dir(path: str | os.PathLike, *, force: bool = False) -> Path:
     return out
 
 
-def prepare_out_file(path: str | os.PathLike, *, force: bool = False) -> Path:
-    """Check that ``path`` can be written without overwriting, unless ``force``."""
+def prepare_out_file(
+    path: str | os.PathLike, *, force: bool = False, option: str = "--out"
+) -> Path:
+    """Check that ``path`` (given as ``option``) can be written without
+    overwriting, unless ``force``."""
     out = Path(path)
     if out.is_dir():
-        raise UserError(f"--out {out}: is a directory, expected a file")
+        raise UserError(f"{option} {out}: is a directory, expected a file")
     if out.exists() and not force:
-        raise UserError(f"--out {out}: file exists (use --force to overwrite)")
+        raise UserError(f"{option} {out}: file exists (use --force to overwrite)")
     if not out.parent.exists():
-        raise UserError(f"--out {out}: directory {out.parent} does not exist")
+        raise UserError(f"{option} {out}: directory {out.parent} does not exist")
     return out

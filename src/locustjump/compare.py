@@ -1,0 +1,161 @@
+"""Runs compared as samples: optimizers (or any config key) at equal budget.
+
+``compare(dirs)`` groups training runs by a key of their configuration (the
+optimizer's kind by default), and reports per group the best fitness of each
+run as a sample — median, quartiles, range — with a two-sided Mann–Whitney U
+test of every group against the reference group (SciPy, extra
+``locustjump[study]``), and draws convergence curves: the best fitness so far
+against genome evaluations, median and interquartile band over the group's
+runs. ``locustjump compare DIR... [--by KEY] [--figure FILE]`` prints the
+table.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from locustjump import rundir
+from locustjump.errors import UserError
+
+#: config keys a comparison may group by
+KEYS = ("optimizer", "engine", "behaviour", "seed")
+
+
+@dataclass(frozen=True)
+class Group:
+    """The runs of one value of the grouping key."""
+
+    label: str
+    runs: tuple[Path, ...]
+    best: np.ndarray  # best fitness of each run
+    evaluations: np.ndarray  # genome evaluations of each run
+    curves: tuple[tuple[np.ndarray, np.ndarray], ...]  # (evaluations, best so far)
+
+    def quartiles(self) -> tuple[float, float, float]:
+        q = np.percentile(self.best, [25, 50, 75])
+        return float(q[0]), float(q[1]), float(q[2])
+
+
+def _key(cfg, by: str) -> str:
+    if by == "optimizer":
+        return cfg.optimizer.kind
+    if by == "engine":
+        return cfg.model.engine
+    return str(getattr(cfg, by))
+
+
+def load_groups(
+    dirs: Sequence[str | os.PathLike], by: str = "optimizer"
+) -> list[Group]:
+    """The runs in ``dirs`` grouped by ``by`` (one of :data:`KEYS`), in the
+    order each value first appears; every run must be of one behaviour."""
+    if by not in KEYS:
+        raise UserError(f"--by {by!r}: choose from {', '.join(KEYS)}")
+    if not dirs:
+        raise UserError("compare needs at least one run directory")
+    found: dict[str, list] = {}
+    behaviours = set()
+    for d in map(Path, dirs):
+        if not rundir.is_run(d):
+            raise UserError(f"{d}: holds no run (no {rundir.CONFIG})")
+        cfg, _, best = rundir.load_run(d)
+        behaviours.add(cfg.behaviour)
+        m = rundir.read_metrics(d / rundir.METRICS)
+        evals = np.cumsum(m["evaluations"])
+        found.setdefault(_key(cfg, by), []).append(
+            (d, best.fitness, int(evals[-1]), (evals, np.maximum.accumulate(m["best"])))
+        )
+    if len(behaviours) > 1:
+        raise UserError(
+            f"the runs are of several behaviours ({', '.join(sorted(behaviours))}); "
+            "compare runs of one"
+        )
+    return [
+        Group(
+            label,
+            tuple(r[0] for r in rows),
+            np.array([r[1] for r in rows]),
+            np.array([r[2] for r in rows]),
+            tuple(r[3] for r in rows),
+        )  # fmt: skip
+        for label, rows in found.items()
+    ]
+
+
+def mann_whitney(a: np.ndarray, b: np.ndarray) -> tuple[float, float]:
+    """Two-sided Mann–Whitney U of samples ``a`` and ``b``: (U of a, p)."""
+    try:
+        from scipy.stats import mannwhitneyu
+    except ImportError:
+        raise UserError(
+            "the rank test needs SciPy: pip install 'locustjump[study]'"
+        ) from None
+    r = mannwhitneyu(a, b, alternative="two-sided")
+    return float(r.statistic), float(r.pvalue)
+
+
+def table(groups: Sequence[Group], reference: str | None = None) -> str:
+    """A Markdown table: per group the runs, evaluations per run, best
+    fitness median [quartiles] (range), and the rank test against
+    ``reference`` (default: the first group)."""
+    ref = (
+        next((g for g in groups if g.label == reference), None)
+        if reference
+        else groups[0]
+    )
+    if ref is None:
+        raise UserError(f"--reference {reference!r}: no such group")
+    lines = [
+        f"| group | runs | evaluations per run | best fitness: median [q1, q3] | "
+        f"range | Mann–Whitney vs {ref.label}: U, p |",
+        "| --- | --- | --- | --- | --- | --- |",
+    ]
+    for g in groups:
+        q1, med, q3 = g.quartiles()
+        ev = (f"{g.evaluations.min():,}" if g.evaluations.min() == g.evaluations.max()
+              else f"{g.evaluations.min():,}-{g.evaluations.max():,}")  # fmt: skip
+        test = "-"
+        if g is not ref:
+            u, p = mann_whitney(g.best, ref.best)
+            test = f"{u:g}, {p:.3g}"
+        lines.append(
+            f"| {g.label} | {len(g.runs)} | {ev} | {med:.4g} [{q1:.4g}, {q3:.4g}] | "
+            f"{g.best.min():.4g} - {g.best.max():.4g} | {test} |"
+        )
+    return "\n".join(lines)
+
+
+def convergence_figure(groups: Sequence[Group], path: str | os.PathLike,
+                       title: str = "") -> Path:  # fmt: skip
+    """Best fitness so far against genome evaluations: median line and
+    interquartile band over each group's runs."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(7, 4.2))
+    for g in groups:
+        grid = np.unique(np.concatenate([c[0] for c in g.curves]))
+        ys = np.array([
+            np.interp(grid, ev, best, left=np.nan, right=best[-1])
+            for ev, best in g.curves
+        ])  # fmt: skip
+        q1, med, q3 = np.nanpercentile(ys, [25, 50, 75], axis=0)
+        (line,) = ax.plot(grid, med, label=f"{g.label} (n={len(g.runs)})")
+        ax.fill_between(grid, q1, q3, color=line.get_color(), alpha=0.2)
+    ax.set_xlabel("genome evaluations")
+    ax.set_ylabel("best fitness so far")
+    ax.set_title(title or "median and interquartile range over runs")
+    ax.legend()
+    fig.tight_layout()
+    path = Path(path)
+    with rundir.atomic_path(path) as tmp:
+        fig.savefig(tmp, format=path.suffix.lstrip(".") or "png", dpi=120)
+    plt.close(fig)
+    return path

@@ -1,0 +1,57 @@
+"""``locustjump compare``: runs grouped by a config key, as samples."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from helpers import exit_status
+from locustjump import rundir
+from locustjump.compare import load_groups, mann_whitney, table
+from locustjump.config import TrainConfig
+from locustjump.optimizers import params_class
+from locustjump.trainer import train
+
+
+@pytest.fixture(scope="module")
+def runs(tmp_path_factory) -> dict[str, list[Path]]:
+    root = tmp_path_factory.mktemp("cmp")
+    out: dict[str, list[Path]] = {}
+    for kind in ("rcga", "random"):
+        for seed in range(3):
+            d = root / f"{kind}-{seed}"
+            cfg = TrainConfig("kick", seed, 2, params_class(kind)(population=4))
+            train(cfg, d, progress=False)
+            out.setdefault(kind, []).append(d)
+    return out
+
+
+def test_groups_table_and_rank_test(runs, tmp_path, capsys):
+    dirs = runs["rcga"] + runs["random"]
+    groups = load_groups(dirs)
+    assert [g.label for g in groups] == ["rcga", "random"]
+    best = [rundir.load_run(d)[2].fitness for d in runs["random"]]
+    np.testing.assert_array_equal(groups[1].best, best)
+    u, p = mann_whitney(groups[1].best, groups[0].best)
+    assert 0 <= u <= 9 and 0 < p <= 1
+    text = table(groups, "rcga")
+    assert "Mann–Whitney vs rcga" in text and f"{u:g}, {p:.3g}" in text
+    fig = tmp_path / "conv.png"
+    argv = ["compare", *map(str, dirs), "--reference", "rcga", "--figure", str(fig)]
+    assert exit_status(argv) == 0 and fig.stat().st_size > 0
+    assert "| random | 3 |" in capsys.readouterr().out
+    # the figure is not overwritten without --force; bad input is one line
+    before = fig.read_bytes()
+    assert exit_status(argv) == 2 and fig.read_bytes() == before
+    assert "--figure" in capsys.readouterr().err
+    assert exit_status(["compare", str(tmp_path)]) == 2
+    assert "holds no run" in capsys.readouterr().err
+    assert exit_status(["compare", *map(str, dirs), "--reference", "cma"]) == 2
+    assert "no such group" in capsys.readouterr().err
+
+
+def test_runs_of_several_behaviours_are_refused(runs, tmp_path):
+    other = tmp_path / "legs"
+    train(TrainConfig("return-legs", 0, 1, params_class("rcga")(population=4)),
+          other, progress=False)  # fmt: skip
+    assert exit_status(["compare", str(runs["rcga"][0]), str(other)]) == 2
