@@ -32,6 +32,7 @@ from locustjump.params import ENGINES
 from locustjump.rollout import RolloutJob, run_batch
 
 TARGETS = {50: 20.0, 250: 50.0}
+CORES = (1, 2, 4, 8, 16, 32, 64)
 
 
 class _TimedCore:
@@ -92,6 +93,7 @@ def main() -> None:
         f"{'episodes':>8} {'engine':>7} {'serial us/step':>15} {'per rollout':>12} "
         f"{'physics 1t':>11} {'physics 2t':>11} {'target':>8}"
     )
+    model: list[tuple[int, str, float, float, float]] = []
     for n in args.episodes:
         for engine in args.engines:
             measure(n, 20, 1, engine)  # warm-up (and the kernel's compilation)
@@ -115,11 +117,33 @@ def main() -> None:
                 if target is None
                 else f"{'ok' if s <= target else 'OVER'} {target:g}"
             )
+            model.append((n, engine, per_step, phys[1], phys[2]))
             print(
                 f"{n:>8} {engine:>7} {s:>15.1f} {fixed * 1e3:>10.2f}ms "
                 f"{phys[1] * 1e6:>11.1f} {phys[2] * 1e6:>11.1f} {ok:>8}",
                 flush=True,
             )
+
+    print_model(model)
+
+
+def print_model(rows) -> None:
+    """PREDICTION (Amdahl): a control step on k cores costs s + p1 / k (serial
+    work s, physics p1 on one core; never more cores than episodes), checked
+    against the 2-thread measurement."""
+    print(
+        "\nPREDICTION: speed-up of a control step on k cores, s + p1/k "
+        "(check: predicted vs measured 2 threads)"
+    )
+    print(
+        f"{'episodes':>8} {'engine':>7} {'2t pred/meas':>13}"
+        + "".join(f"{k:>7}" for k in CORES)
+    )
+    for n, engine, s, p1, p2 in rows:
+        one = s + p1
+        pred2, meas2 = s + p1 / 2, s + p2
+        cells = "".join(f"{one / (s + p1 / min(k, n)):>6.1f}x" for k in CORES)
+        print(f"{n:>8} {engine:>7} {pred2 / meas2:>13.2f}{cells}")
 
 
 if __name__ == "__main__":
