@@ -3,6 +3,9 @@ single-seed reproduction writes, on threads and as Ray tasks; a rerun continues
 what is unfinished and keeps what is done; bad --seeds end in one line."""
 
 import shutil
+import subprocess
+import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -144,3 +147,31 @@ def test_seeds_bad_combinations(tmp_path, capsys):
     assert exit_status(["reproduce", "--seeds", "0-1", "--out", str(single)]) == 2
     assert "single-seed reproduction" in capsys.readouterr().err
     assert sorted(p.name for p in single.iterdir()) == [rundir.MARKER]
+
+
+def test_a_killed_reproduction_continues_where_it_stopped(singles, tmp_path, local_ray):
+    """kill -9 in the middle of seed 0 (its kick done, getup under way), then
+    the same reproduction continued on Ray: identical to the single seeds."""
+    out = tmp_path / "seeds"
+    code = (
+        "from locustjump.reproduce import Budget\n"
+        "from locustjump.multiseed import reproduce_seeds\n"
+        f"b = Budget('tiny', 4, {dict(TINY.generations)!r})\n"
+        f"reproduce_seeds({str(out)!r}, [0, 1], budget=b, backend='threads', "
+        "threads=1, progress=False, videos=False, log=lambda s: None)\n"
+    )
+    proc = subprocess.Popen([sys.executable, "-c", code])
+    started = out / "seed-0" / "getup" / rundir.METRICS
+    deadline = time.monotonic() + 120
+    while not started.exists() and proc.poll() is None:
+        assert time.monotonic() < deadline
+        time.sleep(0.01)
+    proc.kill()
+    proc.wait()
+    assert not (out / "seed-1" / "kick").exists(), "killed too late to test"
+    kept = out / "seed-0" / "kick" / rundir.CHECKPOINT
+    before = (kept.read_bytes(), kept.stat().st_mtime_ns)
+    reproduce_seeds(out, SEEDS, budget=TINY, backend="ray", **QUIET)
+    assert (kept.read_bytes(), kept.stat().st_mtime_ns) == before
+    for s in SEEDS:
+        assert_same_reproduction(rundir.seed_dir(out, s), singles[s])
