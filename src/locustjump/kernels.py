@@ -106,27 +106,28 @@ def tanh(x: float) -> float:
     return small if z < 0.625 else big
 
 
+@njit(cache=True, inline="always", error_model="numpy")
+def _layer_sum(w, k, x, out):
+    """``out[k, e] = sum_j w[k, j, e] * x[j, e]``, summed in input order."""
+    for e in range(x.shape[1]):
+        out[k, e] = w[k, 0, e] * x[0, e]
+    for j in range(1, x.shape[0]):
+        for e in range(x.shape[1]):
+            out[k, e] += w[k, j, e] * x[j, e]
+
+
 @njit(cache=True, error_model="numpy")
 def mlp(w1, b1, w2, b2, x, out, hidden, output):
     """One network per episode, episode-last: ``w1 (h, i, n)``, ``b1 (h, n)``,
     ``w2 (o, h, n)``, ``b2 (o, n)``, inputs ``x (i, n)``; writes ``out (o, n)``
     (``hidden (h, n)`` is scratch)."""
-    h, i, n = w1.shape
-    o = w2.shape[0]
+    h, n = w1.shape[0], x.shape[1]
     for k in range(h):
-        for e in range(n):
-            hidden[k, e] = w1[k, 0, e] * x[0, e]
-        for j in range(1, i):
-            for e in range(n):
-                hidden[k, e] += w1[k, j, e] * x[j, e]
+        _layer_sum(w1, k, x, hidden)
         for e in range(n):
             hidden[k, e] = tanh(hidden[k, e] + b1[k, e])
-    for k in range(o):
-        for e in range(n):
-            out[k, e] = w2[k, 0, e] * hidden[0, e]
-        for j in range(1, h):
-            for e in range(n):
-                out[k, e] += w2[k, j, e] * hidden[j, e]
+    for k in range(w2.shape[0]):
+        _layer_sum(w2, k, hidden[:h], out)
         if output == DELTA:
             for e in range(n):
                 out[k, e] = tanh(out[k, e] + b2[k, e]) * MAX_DELTA
