@@ -187,8 +187,8 @@ def reproduce_seeds(
             alone = single_seed_command(b.name, s, optimizer, d, engine)
             start_reproduction(d, b, s, optimizer, alone, engine)
         if ray is None:
-            for s, d in dirs.items():
-                log(f"[seed {s}] seed {s} of {len(dirs)}")
+            for i, (s, d) in enumerate(dirs.items(), 1):
+                log(f"[seed {s}] {i} of {len(dirs)} seeds, on this machine")
                 reproduce(
                     d, budget=b, seed=s, optimizer=optimizer, backend=here,
                     progress=progress, log=lambda m, s=s: log(f"[seed {s}] {m}"),
