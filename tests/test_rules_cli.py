@@ -1,3 +1,4 @@
+import dataclasses
 import json
 
 import mujoco
@@ -6,7 +7,11 @@ import pytest
 
 from locustjump import cli, names
 from locustjump import model as lm
-from locustjump.rules import run_rules
+from locustjump.behaviours.composed import START_ROLL
+from locustjump.behaviours.getup import rolled_starts
+from locustjump.controller import MLP
+from locustjump.rollout import StartStates, rollout
+from locustjump.rules import RuleController, RuleGetupController, run_rules
 from locustjump.rundir import TRAJECTORY_COLUMNS
 
 
@@ -24,6 +29,33 @@ def test_rules_kick_only_after_change_time(params):
     run = run_rules(change_time=100.0, steps=600, model_params=params)
     assert run.jumps == []
     np.testing.assert_allclose(run.ctrl[-1], params.ready_angles())
+
+
+def test_rules_with_getup_hand_over_below_the_threshold(params, rng):
+    """The hybrid is the rules while U_z >= below and the get-up network while
+    U_z < below, step for step and bit for bit (NumPy path: on the compiled
+    one the network alone would run its kernel, within ulps of NumPy's)."""
+    params = dataclasses.replace(params, engine="numpy")
+    rules = RuleController.for_model(params)
+    getup = MLP().random_genomes(rng, 1)[0]
+    side = rolled_starts(params, (START_ROLL,))
+    standing = StartStates.ready(lm.load_model(params))
+    rec = ("qpos", "obs", "ctrl")
+
+    def run(ctl, p, starts, steps=400):
+        return rollout(ctl, p, starts, steps, model_params=params, record=rec)
+
+    alone = run(rules, rules.params_for(0.5), standing)
+    never = RuleGetupController(rules, below=-2.0)
+    hybrid = run(never, never.params_for(0.5, getup), standing)
+    for k in rec:
+        np.testing.assert_array_equal(hybrid[k], alone[k])
+    always = RuleGetupController(rules, below=2.0)
+    net = run(MLP(), getup[None], side)
+    hybrid = run(always, always.params_for(0.5, getup), side)
+    for k in rec:
+        np.testing.assert_array_equal(hybrid[k], net[k])
+    assert always.num_params == 145 and always.memory_size == 1
 
 
 def test_cli_model_writes_loadable_mjcf(tmp_path, capsys):

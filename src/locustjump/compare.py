@@ -12,6 +12,7 @@ table.
 
 from __future__ import annotations
 
+import dataclasses
 import os
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -41,9 +42,20 @@ class Group:
         return float(q[0]), float(q[1]), float(q[2])
 
 
+def optimizer_label(params) -> str:
+    """The optimizer's kind, with the settings that differ from its defaults
+    (population aside): ``rcga``, ``rcga(crossover=sbx)``, ``cma(sigma0=1)``."""
+    changed = [
+        f"{f.name}={getattr(params, f.name)}"
+        for f in dataclasses.fields(params)
+        if f.name != "population" and getattr(params, f.name) != f.default
+    ]
+    return params.kind + (f"({', '.join(changed)})" if changed else "")
+
+
 def _key(cfg, by: str) -> str:
     if by == "optimizer":
-        return cfg.optimizer.kind
+        return optimizer_label(cfg.optimizer)
     if by == "engine":
         return cfg.model.engine
     return str(getattr(cfg, by))

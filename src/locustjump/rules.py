@@ -24,6 +24,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from locustjump import model as lm
+from locustjump.controller import MLP, MLPWeights
 from locustjump.model import CONTROL_DT
 from locustjump.sensors import MAX_DELTA
 
@@ -82,6 +83,53 @@ class RuleController:
         goal = np.where(kick[:, None], self.extended, self.ready)
         deltas = np.clip(goal - targets, -MAX_DELTA, MAX_DELTA)
         return deltas, touch_time[:, None]
+
+
+@dataclass(frozen=True)
+class RuleGetupController:
+    """The rules with an evolved get-up network: a reference beyond the paper
+    (issue #20). While the body is overturned (U_z, input I9, below
+    ``below``) the frozen get-up network drives the servos, else the rules do.
+
+    ``params`` (n, 1 + 144): the change time in control steps, then the get-up
+    genome. Memory per episode: the rules' touch time (kept counting).
+    """
+
+    rules: RuleController
+    below: float = 0.5
+    getup: MLP = MLP()
+
+    @property
+    def num_params(self) -> int:
+        return 1 + self.getup.num_params
+
+    @property
+    def memory_size(self) -> int:
+        return 1
+
+    @staticmethod
+    def params_for(change_time: float, getup: np.ndarray) -> np.ndarray:
+        """(1, 145) params: ``change_time`` seconds, the (144,) get-up genome."""
+        return np.concatenate([RuleController.params_for(change_time)[0], getup])[None]
+
+    def prepare(self, params: np.ndarray) -> tuple[np.ndarray, MLPWeights]:
+        params = np.asarray(params, dtype=np.float64)
+        return self.rules.prepare(params[:, :1]), self.getup.prepare(params[:, 1:])
+
+    def act(
+        self,
+        prepared: tuple[np.ndarray, MLPWeights],
+        memory: np.ndarray,
+        obs: np.ndarray,
+        targets: np.ndarray,
+        step: int,
+    ) -> tuple[np.ndarray, np.ndarray]:
+        change, getup = prepared
+        deltas, memory = self.rules.act(change, memory, obs, targets, step)
+        over = obs[:, 8] < self.below
+        if over.any():
+            deltas = np.where(over[:, None], self.getup.apply(getup, obs), deltas)
+        return deltas, memory
 
 
 @dataclass(frozen=True)
