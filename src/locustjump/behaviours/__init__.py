@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from locustjump.behaviours.base import Behaviour, Claim
+from locustjump.behaviours.ceiling import CEILING
 from locustjump.behaviours.composed import SIMPLE, Composed, Monolithic
 from locustjump.behaviours.getup import GetUp
 from locustjump.behaviours.kick import Kick
@@ -35,6 +36,10 @@ for _cls in (Kick, GetUp, ReturnLegs, Composed, Monolithic):
 
 #: The paper's behaviours (the registry may hold more).
 BEHAVIOURS: tuple[str, ...] = tuple(_REGISTRY)
+#: Beyond the paper: the kick's ceiling (apex fitness, open-loop controller).
+for _cls in CEILING:
+    register_behaviour(_cls)
+
 #: The three simple behaviours the composed one switches between.
 SIMPLE_BEHAVIOURS: tuple[str, ...] = SIMPLE
 

@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# Issue #20's training runs, one thread each, into runs/study/<behaviour>-<name>-s<seed>/.
+# Rerun to continue: every run resumes from its checkpoint. JOBS=2 runs two at
+# a time; SEEDS="0 1" and NAMES="rcga cma" narrow a study.
+#
+#   scripts/study.sh kick     the kick at the paper's budget (50 x 1000), seeds
+#                             0-9 of the RCGA (BLX-alpha, the default), its SBX
+#                             and UNDX variants (scripts/study/rcga-*.toml),
+#                             CMA-ES and random search; NumPy engine path, on
+#                             which the study's first runs were made
+#   scripts/study.sh ceiling  the kick's ceiling: apex fitness and/or open-loop
+#                             control (kick-apex, kick-apex-open, kick-open),
+#                             CMA-ES and the RCGA, 50 x 1000, seeds 0-2
+#
+# Then e.g. (docs/science.md has every command):
+#   .venv/bin/locustjump compare runs/study/kick-{rcga,cma,random}-s* --reference rcga
+set -e
+cd "$(dirname "$0")/.."
+one() {  # one run: BEHAVIOUR NAME SEED ENGINE
+  local d=runs/study/$1-$2-s$3 how
+  case $2 in
+    rcga-*) how="--config scripts/study/$2.toml" ;;
+    *) how="--optimizer $2" ;;
+  esac
+  if [ -f "$d/config.toml" ]; then how=--resume; else how="$how --engine $4"; fi
+  .venv/bin/locustjump train "$1" --seed "$3" --generations 1000 \
+    --threads 1 --quiet --out "$d" $how
+}
+export -f one
+case $1 in
+  kick) behaviours=kick names="rcga cma random rcga-sbx rcga-undx"
+        seeds="0 1 2 3 4 5 6 7 8 9" engine=numpy ;;
+  ceiling) behaviours="kick-apex kick-apex-open kick-open" names="cma rcga"
+           seeds="0 1 2" engine=numba ;;
+  *) echo "usage: scripts/study.sh kick|ceiling" >&2; exit 2 ;;
+esac
+for s in ${SEEDS:-$seeds}; do
+  for b in $behaviours; do
+    for n in ${NAMES:-$names}; do echo "$b $n $s $engine"; done
+  done
+done | xargs -P "${JOBS:-1}" -L 1 bash -c 'one "$@"' _
