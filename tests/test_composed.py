@@ -181,6 +181,45 @@ def test_composed_bad_input(simple_runs, tmp_path, capsys):
     assert (out / rundir.CHECKPOINT).read_bytes() == before
 
 
+def test_switch_every_option_and_kick_variants(simple_runs, tmp_path, capsys, params):
+    """--switch-every (beyond the paper) is recorded in config.toml, changes
+    the hash, switches at its multiples and must match on resume; default
+    configs keep their hash; a kick-apex run serves as the kick."""
+    apex = tmp_path / "apex"
+    train(
+        TrainConfig("kick-apex", 0, 1, RCGAParams(population=4)), apex, progress=False
+    )
+    dirs = [f"--{k}={v}" for k, v in {**simple_runs, "kick": apex}.items()]
+    argv = ["train", "composed", "--generations", "1", "--population", "4", "--quiet"]
+    out = tmp_path / "c"
+    assert main([*argv, *dirs, "--switch-every", "7", "--out", str(out)]) == 0
+    cfg = rundir.load_config(out / rundir.CONFIG)
+    assert cfg.options.switch_every == 7
+    assert "[options]\nswitch_every = 7" in (out / rundir.CONFIG).read_text()
+    assert cfg.hash() != cfg.replace(options=type(cfg.options)()).hash()
+    _, beh, best = rundir.load_run(out)
+    res = beh.simulate(best.genome[None], params, record=("memory",))
+    sel = res["memory"][0, 1:, 0]
+    assert np.all((np.flatnonzero(np.diff(sel)) + 1) % 7 == 0)
+    assert evaluate_run(out).matches
+    capsys.readouterr()
+    resume = ["train", "composed", "--resume", "--out", str(out)]
+    assert main([*resume, "--switch-every", "8"]) == 2
+    assert "--switch-every 8 differs" in capsys.readouterr().err
+    assert (
+        main(["train", "kick", "--switch-every", "8", "--out", str(tmp_path / "k")])
+        == 2
+    )
+    assert "only the composed behaviour" in capsys.readouterr().err
+    assert not (tmp_path / "k").exists()
+    # the shipped composed runs (no [options]) read the paper's 120, same hash
+    for r in ("quick-seed0", "paper-seed0"):
+        d = Path(__file__).parent.parent / "results" / r / "composed"
+        shipped = rundir.load_config(d / rundir.CONFIG)
+        assert shipped.options.switch_every == SWITCH_EVERY
+        assert f"config hash {shipped.hash()}" in (d / rundir.CONFIG).read_text()
+
+
 # --- reproduce -------------------------------------------------------------------
 
 TINY = Budget("tiny", 4, {"kick": 1, "getup": 1, "return-legs": 1, "composed": 1})

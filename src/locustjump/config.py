@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from locustjump import model as lm
-from locustjump.behaviours import behaviour_names
+from locustjump.behaviours import behaviour_class, behaviour_names
 from locustjump.errors import UserError
 from locustjump.optimizers import RCGAParams, params_class
 
@@ -51,6 +51,9 @@ class TrainConfig:
     model: lm.LocustParams = field(default_factory=lm.LocustParams)
     #: behaviours built on frozen runs (composed): digest of their genomes
     simple: str = ""
+    #: the behaviour's settings beyond the paper (its ``Options``; default: its
+    #: defaults, the paper's)
+    options: Any = None
 
     def __post_init__(self) -> None:
         if self.behaviour not in behaviour_names():
@@ -63,6 +66,14 @@ class TrainConfig:
         if self.seed < 0:
             raise ValueError(f"seed must be >= 0, got {self.seed}")
         params_class(getattr(self.optimizer, "kind", None))
+        kind = behaviour_class(self.behaviour).Options
+        if self.options is None:
+            object.__setattr__(self, "options", kind())
+        elif not isinstance(self.options, kind):
+            raise ValueError(
+                f"{self.behaviour} takes {kind.__name__} options, "
+                f"got {type(self.options).__name__}"
+            )
 
     @property
     def population(self) -> int:
@@ -82,6 +93,8 @@ class TrainConfig:
         }
         if self.simple:
             d["simple"] = self.simple
+        if dataclasses.fields(self.options):
+            d["options"] = _table(self.options)
         return d
 
     def hash(self) -> str:
@@ -102,6 +115,8 @@ class TrainConfig:
                 del d["model"][name]
         if d["model"]["engine"] == _ENGINE_BEFORE:
             del d["model"]["engine"]
+        if self.options == type(self.options)():  # runs made before options
+            d.pop("options", None)
         text = json.dumps(d, sort_keys=True)
         return hashlib.sha256(text.encode()).hexdigest()[:16]
 
@@ -110,6 +125,7 @@ class TrainConfig:
         """Checked conversion; a ``UserError`` names ``source`` and the key."""
         top = {"behaviour": "kick", "seed": 0, "generations": 1000, "simple": ""}
         kwargs: dict[str, Any] = {}
+        options = None
         if "rcga" in d and "optimizer" in d:
             raise UserError(f"{source}: give [optimizer] or the older [rcga], not both")
         for key, value in d.items():
@@ -123,8 +139,18 @@ class TrainConfig:
                 if isinstance(value, dict) and "engine" not in value:
                     value = {**value, "engine": _ENGINE_BEFORE}
                 kwargs[key] = from_table(lm.LocustParams, value, key, source)
+            elif key == "options":
+                options = value
             else:
                 raise UserError(f"{source}: unknown key {key!r}")
+        if options is not None:  # the behaviour's own settings
+            try:
+                kind = behaviour_class(
+                    kwargs.get("behaviour", top["behaviour"])
+                ).Options
+            except ValueError as e:
+                raise UserError(f"{source}: {e}") from None
+            kwargs["options"] = from_table(kind, options, "options", source)
         try:
             return cls(**kwargs)
         except ValueError as e:

@@ -151,7 +151,9 @@ def _check_new(
             + ")"
         )
     lm.check_model(cfg.model)
-    beh = get_behaviour(cfg.behaviour, frozen.genomes if cls.requires else None)
+    beh = get_behaviour(
+        cfg.behaviour, frozen.genomes if cls.requires else None, cfg.options
+    )
     from locustjump.resources import require_memory
     from locustjump.rollout import rollout_bytes
 
@@ -314,6 +316,7 @@ def resolve_config(
     population: int | None = None,
     generations: int | None = None,
     engine: str | None = None,
+    switch_every: int | None = None,
 ) -> TrainConfig:
     """The configuration ``locustjump train`` runs: a resumed run's own
     ``config.toml`` (options may only extend ``generations``), or the defaults,
@@ -336,9 +339,10 @@ def resolve_config(
             "seed": cfg.seed,
             "population": cfg.population,
             "engine": cfg.model.engine,
+            "switch-every": getattr(cfg.options, "switch_every", None),
         }
         given = {"optimizer": optimizer, "seed": seed, "population": population,
-                 "engine": engine}  # fmt: skip
+                 "engine": engine, "switch-every": switch_every}  # fmt: skip
         for key, value in given.items():
             if value not in (None, have[key]):
                 raise UserError(
@@ -362,6 +366,17 @@ def resolve_config(
             cfg = cfg.replace(seed=seed)
         if engine is not None:
             cfg = cfg.replace(model=dataclasses.replace(cfg.model, engine=engine))
+        if switch_every is not None:
+            if not hasattr(cfg.options, "switch_every"):
+                raise UserError(
+                    f"--switch-every: only the composed behaviour switches, "
+                    f"not {behaviour!r}"
+                )
+            try:
+                opts = dataclasses.replace(cfg.options, switch_every=switch_every)
+            except ValueError as e:
+                raise UserError(f"--switch-every: {e}") from None
+            cfg = cfg.replace(options=opts)
         if population is not None:
             try:
                 opt = cfg.optimizer.replace(population=population)

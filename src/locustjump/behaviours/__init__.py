@@ -10,6 +10,8 @@ results table and the Gymnasium environment then work for it unchanged.
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 from locustjump.behaviours.base import Behaviour, Claim
@@ -59,14 +61,17 @@ def behaviour_class(name: str) -> type[Behaviour]:
         ) from None
 
 
-def get_behaviour(name: str, frozen: np.ndarray | None = None) -> Behaviour:
+def get_behaviour(
+    name: str, frozen: np.ndarray | None = None, options: Any = None
+) -> Behaviour:
     """The behaviour called ``name``.
 
     ``frozen`` (k, P): the genomes of the runs the behaviour builds on, in the
     order of its ``requires`` (the composed behaviour's kick, getup and
     return-legs networks); ignored by behaviours that build on none.
+    ``options``: its ``Options`` (default: the paper's settings).
     """
-    return behaviour_class(name)(frozen)
+    return behaviour_class(name)(frozen, options)
 
 
 __all__ = [

@@ -92,6 +92,11 @@ def fmt(x: float | None, spec: str = ".2f") -> str:
     return "n/a" if x is None else format(x, spec)
 
 
+@dataclass(frozen=True)
+class NoOptions:
+    """The settings of a behaviour that has none."""
+
+
 class StepReward:
     """Per-step rewards of one episode that add up to the behaviour's fitness.
 
@@ -142,6 +147,8 @@ class Behaviour:
     ``headline``                the metrics ``locustjump replay`` prints
     ``memory_labels``           what memory[0] indexes (a video's caption)
     ``gym_id``, :meth:`reward`  its Gymnasium environment and per-step reward
+    ``Options``                 its settings beyond the paper (a frozen
+                                dataclass; ``[options]`` of ``config.toml``)
     ==========================  ================================================
     """
 
@@ -159,10 +166,18 @@ class Behaviour:
     headline: ClassVar[tuple[str, ...]] = ("fitness",)
     memory_labels: ClassVar[tuple[str, ...] | None] = None
     gym_id: ClassVar[str | None] = None
+    Options: ClassVar[type] = NoOptions
 
-    def __init__(self, frozen: np.ndarray | None = None):
-        """``frozen`` (k, P): genomes of the ``requires`` runs, if any."""
+    def __init__(self, frozen: np.ndarray | None = None, options: Any = None):
+        """``frozen`` (k, P): genomes of the ``requires`` runs, if any;
+        ``options``: an instance of ``Options`` (default: its defaults)."""
         self.frozen = None if frozen is None else np.asarray(frozen, np.float64)
+        self.options = self.Options() if options is None else options
+        if not isinstance(self.options, self.Options):
+            raise TypeError(
+                f"{self.name} takes {self.Options.__name__} options, "
+                f"got {type(self.options).__name__}"
+            )
 
     @classmethod
     def frozen_num_params(cls) -> int:

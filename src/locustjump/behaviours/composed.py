@@ -49,6 +49,21 @@ OVERTURNED_UZ = 0.0
 PAPER_COMPOSED_RATIO = 2.0
 
 
+@dataclass(frozen=True)
+class SwitchOptions:
+    """The composed behaviour's settings beyond the paper (``[options]``)."""
+
+    #: control steps between two decisions of the switcher (paper: 120)
+    switch_every: int = SWITCH_EVERY
+
+    def __post_init__(self) -> None:
+        if not 1 <= self.switch_every <= 3000:
+            raise ValueError(
+                "switch_every must be in [1, 3000] control steps, "
+                f"got {self.switch_every}"
+            )
+
+
 @dataclass(frozen=True, eq=False)
 class SwitchingController:
     """The switcher over frozen simple networks, batched over episodes.
@@ -255,6 +270,7 @@ class Composed(_Successive):
         ),
     )
     headline = ("jumps", "apex_heights_m", "min_apex_ratio_to_rules")
+    Options = SwitchOptions
 
     @property
     def controller(self) -> Controller:
@@ -263,7 +279,7 @@ class Composed(_Successive):
                 "the composed behaviour needs the three simple behaviours' genomes "
                 "(kick, getup, return-legs)"
             )
-        return SwitchingController(self.frozen)
+        return SwitchingController(self.frozen, every=self.options.switch_every)
 
     def claims(self, record: dict[str, Any] | None) -> list[Claim]:
         claim = Claim(

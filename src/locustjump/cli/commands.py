@@ -57,6 +57,7 @@ def cmd_train(args: argparse.Namespace) -> int:
         population=args.population,
         generations=args.generations,
         engine=args.engine,
+        switch_every=args.switch_every,
     )
     requires = behaviour_class(args.behaviour).requires
     dirs = {name: getattr(args, frozen_dest(name)) for name in frozen_options()}
@@ -69,7 +70,12 @@ def cmd_train(args: argparse.Namespace) -> int:
         )
     frozen = None
     if requires and (not args.resume or any(dirs[r] is not None for r in requires)):
-        frozen = rundir.FrozenGenomes.from_runs(requires, dirs, cfg.model)
+        frozen = rundir.FrozenGenomes.from_runs(
+            requires,
+            dirs,
+            cfg.model,
+            behaviour_class(args.behaviour).frozen_num_params(),
+        )
     res = train(
         cfg,
         args.out,

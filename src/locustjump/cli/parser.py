@@ -210,6 +210,13 @@ def build_parser() -> argparse.ArgumentParser:
             metavar="DIR",
             help=f"composed: the {name} run whose best network it switches to",
         )
+    p.add_argument(
+        "--switch-every",
+        type=_int_at_least("--switch-every", 1),
+        metavar="STEPS",
+        help="composed: control steps between two decisions of the switcher "
+        "(default 120, the paper's; beyond the paper, recorded in config.toml)",
+    )
     p.set_defaults(func=cmd.cmd_train)
 
     p = sub.add_parser(

@@ -123,11 +123,18 @@ class FrozenGenomes:
 
     @classmethod
     def from_runs(
-        cls, required: tuple[str, ...], dirs: dict[str, Any], model
+        cls,
+        required: tuple[str, ...],
+        dirs: dict[str, Any],
+        model,
+        frozen_size: int | None = None,
     ) -> FrozenGenomes:
         """Best genomes of the runs ``dirs[name]`` for each name in ``required``;
-        each must hold that behaviour and the creature ``model`` (``UserError``
-        naming the directory otherwise)."""
+        each must hold that behaviour, or a variant of it with the same network
+        (e.g. a ``kick-apex`` run for the kick), and the creature ``model``
+        (``UserError`` naming the directory otherwise)."""
+        from locustjump.behaviours import behaviour_class
+
         genomes, sources, hashes = [], [], []
         for name in required:
             if dirs.get(name) is None:
@@ -138,9 +145,12 @@ class FrozenGenomes:
                 )
             d = Path(dirs[name])
             cfg, _, best = load_run(d)
-            if cfg.behaviour != name:
+            variant = issubclass(behaviour_class(cfg.behaviour), behaviour_class(name))
+            size = best.genome.size
+            if not variant or size != (frozen_size or size):
                 raise UserError(
                     f"--{name} {d}: holds a {cfg.behaviour!r} run, not {name!r}"
+                    + (f" ({size} genes, not {frozen_size})" if variant else "")
                 )
             # the same creature; the engine path may differ (frozen networks
             # evolved on NumPy run as well compiled, within a few ulp a step)
@@ -195,14 +205,14 @@ def behaviour_of(cfg, out: Path):
 
     cls = behaviour_class(cfg.behaviour)
     if not cls.requires:
-        return get_behaviour(cfg.behaviour)
+        return get_behaviour(cfg.behaviour, None, cfg.options)
     frozen = FrozenGenomes.load(out / FROZEN, cls.requires, cls.frozen_num_params())
     if frozen.digest != cfg.simple:
         raise UserError(
             f"{out / FROZEN}: its genomes (digest {frozen.digest}) are not the ones "
             f"{out / CONFIG} names ({cfg.simple or 'none'})"
         )
-    return get_behaviour(cfg.behaviour, frozen.genomes)
+    return get_behaviour(cfg.behaviour, frozen.genomes, cfg.options)
 
 
 def load_run(path: str | os.PathLike):
