@@ -31,6 +31,19 @@ def test_rules_kick_only_after_change_time(params):
     np.testing.assert_allclose(run.ctrl[-1], params.ready_angles())
 
 
+def test_rule_rate_bounds_each_target_change(params):
+    base = RuleController.for_model(params)
+    slow = RuleController(base.ready, base.extended, rate=np.radians(5.0))
+    obs = np.zeros((2, 9))
+    obs[:, 4] = [-1.0, 1.0]  # the first touches (and kicks), the second does not
+    targets = np.array([base.ready, base.extended])
+    for ctl, bound in ((base, 10.0), (slow, 5.0)):
+        d, mem = ctl.act(ctl.prepare([[0.0], [0.0]]), np.zeros((2, 1)), obs, targets, 0)
+        np.testing.assert_allclose(np.abs(d).max(axis=1), np.radians(bound))
+        assert np.all(np.sign(d[0]) == np.sign(np.subtract(base.extended, base.ready)))
+        np.testing.assert_array_equal(mem[:, 0], [1.0, 0.0])
+
+
 def test_rules_with_getup_hand_over_below_the_threshold(params, rng):
     """The hybrid is the rules while U_z >= below and the get-up network while
     U_z < below, step for step and bit for bit (NumPy path: on the compiled

@@ -44,6 +44,8 @@ class RuleController:
 
     ready: tuple[float, ...]  # (rad) phi, order I1–I4
     extended: tuple[float, ...]  # (rad) kick posture
+    #: (rad per control step) the rate of both motions; the paper's maximum
+    rate: float = MAX_DELTA
 
     @classmethod
     def for_model(cls, p: lm.LocustParams = lm.LocustParams()) -> RuleController:
@@ -81,7 +83,7 @@ class RuleController:
         touch_time = np.where(touching, memory[:, 0] + 1, 0.0)
         kick = touching & (touch_time >= prepared)
         goal = np.where(kick[:, None], self.extended, self.ready)
-        deltas = np.clip(goal - targets, -MAX_DELTA, MAX_DELTA)
+        deltas = np.clip(goal - targets, -self.rate, self.rate)
         return deltas, touch_time[:, None]
 
 
