@@ -3,39 +3,50 @@
 # Rerun to continue: every run resumes from its checkpoint. JOBS=2 runs two at
 # a time; SEEDS="0 1" and NAMES="rcga cma" narrow a study.
 #
-#   scripts/study.sh kick     the kick at the paper's budget (50 x 1000), seeds
-#                             0-9 of the RCGA (BLX-alpha, the default), its SBX
-#                             and UNDX variants (scripts/study/rcga-*.toml),
-#                             CMA-ES and random search; NumPy engine path, on
-#                             which the study's first runs were made
-#   scripts/study.sh ceiling  the kick's ceiling: apex fitness and/or open-loop
-#                             control (kick-apex, kick-apex-open, kick-open),
-#                             CMA-ES and the RCGA, 50 x 1000, seeds 0-2
+#   scripts/study.sh kick      the kick at the paper's budget (50 x 1000), seeds
+#                              0-9 of the RCGA (BLX-alpha, the default), its SBX
+#                              and UNDX variants (scripts/study/rcga-*.toml),
+#                              CMA-ES and random search; NumPy engine path, on
+#                              which the study's first runs were made
+#   scripts/study.sh ceiling   the kick's ceiling: apex fitness and/or open-loop
+#                              control (kick-apex, kick-apex-open, kick-open),
+#                              CMA-ES and the RCGA, 50 x 1000, seeds 0-2
+#   scripts/study.sh composed  the composed behaviour on the simple networks of
+#                              results/paper-seed0, 50 x 300, switching every
+#                              120 (the paper), 30 or 10 steps (pN), with the
+#                              paper's kick or the kick-apex-cma-s0 one (apex-)
 #
 # Then e.g. (docs/science.md has every command):
 #   .venv/bin/locustjump compare runs/study/kick-{rcga,cma,random}-s* --reference rcga
 set -e
 cd "$(dirname "$0")/.."
-one() {  # one run: BEHAVIOUR NAME SEED ENGINE
-  local d=runs/study/$1-$2-s$3 how
-  case $2 in
-    rcga-*) how="--config scripts/study/$2.toml" ;;
+one() {  # one run: BEHAVIOUR NAME SEED ENGINE GENERATIONS
+  local d=runs/study/$1-$2-s$3 how simple=results/paper-seed0 kick
+  case $1/$2 in
+    */rcga-*) how="--config scripts/study/$2.toml" ;;
+    composed/*) kick=$simple/kick
+       case $2 in apex-*) kick=runs/study/kick-apex-cma-s0 ;; esac
+       how="--switch-every ${2##*p} --kick $kick --getup $simple/getup
+            --return-legs $simple/return-legs" ;;
     *) how="--optimizer $2" ;;
   esac
   if [ -f "$d/config.toml" ]; then how=--resume; else how="$how --engine $4"; fi
-  .venv/bin/locustjump train "$1" --seed "$3" --generations 1000 \
+  .venv/bin/locustjump train "$1" --seed "$3" --generations "$5" \
     --threads 1 --quiet --out "$d" $how
 }
 export -f one
+gens=1000
 case $1 in
   kick) behaviours=kick names="rcga cma random rcga-sbx rcga-undx"
         seeds="0 1 2 3 4 5 6 7 8 9" engine=numpy ;;
   ceiling) behaviours="kick-apex kick-apex-open kick-open" names="cma rcga"
            seeds="0 1 2" engine=numba ;;
-  *) echo "usage: scripts/study.sh kick|ceiling" >&2; exit 2 ;;
+  composed) behaviours=composed names="p10 p30 apex-p120 apex-p10 p120"
+            seeds=0 engine=numba gens=300 ;;
+  *) echo "usage: scripts/study.sh kick|ceiling|composed" >&2; exit 2 ;;
 esac
 for s in ${SEEDS:-$seeds}; do
   for b in $behaviours; do
-    for n in ${NAMES:-$names}; do echo "$b $n $s $engine"; done
+    for n in ${NAMES:-$names}; do echo "$b $n $s $engine $gens"; done
   done
 done | xargs -P "${JOBS:-1}" -L 1 bash -c 'one "$@"' _

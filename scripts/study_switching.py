@@ -83,7 +83,7 @@ def main(argv: list[str] | None = None) -> int:
         genome[stage] = rundir.load_run(args.reproduction / stage)[2].genome
     kicks = {f"{args.reproduction.name} kick": genome["kick"]}
     for d in args.kick:
-        kicks[d.name] = rundir.load_run(d)[2].genome
+        kicks[f"{d.parent.name}/{d.name}"] = rundir.load_run(d)[2].genome
     p = lm.LocustParams()
     starts = {
         "side": rolled_starts(p, (START_ROLL,)),
