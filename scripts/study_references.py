@@ -5,8 +5,9 @@ steps):
 * the rule-based jumper from its standing start (Fig. 4) and from the
   composed behaviour's start on its side (Fig. 11), where it cannot get up;
 * the rules plus an evolved get-up network (``RuleGetupController``: the
-  get-up network drives while U_z < BELOW) from both starts, for the get-up
-  network of every reproduction given;
+  get-up network drives while U_z < below, and, for ``low`` = 0.8, only
+  while the body centre is within ~0.11 m of the floor: I6 >= 0.8) from both
+  starts, for the get-up network of every reproduction given;
 * the evolved composed and monolithic controllers of those reproductions
   (their recorded Eq. 4 fitness, from the side).
 
@@ -34,7 +35,8 @@ from locustjump.rollout import StartStates, rollout
 from locustjump.rules import DEFAULT_CHANGE_TIME, RuleController, RuleGetupController
 
 STEPS = 3000
-BELOW = (0.0, 0.5)  # U_z thresholds under which the get-up network drives
+#: (below, low): U_z under which, and I6 above which, the get-up network drives
+HANDOVER = ((0.0, 0.0), (0.5, 0.8))
 
 
 def episode(ctrl, params, starts: StartStates, p: lm.LocustParams) -> dict:
@@ -74,12 +76,13 @@ def main(argv: list[str] | None = None) -> int:
         rows.append({"controller": "rule-based", "start": name, **row})
     for r in args.reproductions:
         _, _, best = rundir.load_run(r / "getup")
-        for below in BELOW:
-            hybrid = RuleGetupController(rules, below)
+        for below, low in HANDOVER:
+            hybrid = RuleGetupController(rules, below, low)
             params = hybrid.params_for(DEFAULT_CHANGE_TIME, best.genome)
             for name, st in starts.items():
                 row = episode(hybrid, params, st, p)
-                label = f"rules + {r.name} getup (U_z < {below:g})"
+                near = f", I6 >= {low:g}" if low else ""
+                label = f"rules + {r.name} getup (U_z < {below:g}{near})"
                 rows.append({"controller": label, "start": name, **row})
         for stage in ("composed", "monolithic"):
             f = r / stage / rundir.EVAL / "metrics.json"

@@ -91,7 +91,8 @@ class RuleController:
 class RuleGetupController:
     """The rules with an evolved get-up network: a reference beyond the paper
     (issue #20). While the body is overturned (U_z, input I9, below
-    ``below``) the frozen get-up network drives the servos, else the rules do.
+    ``below``) and low (input I6 = 1 / (H + 1) at least ``low``; 0: at any
+    height) the frozen get-up network drives the servos, else the rules do.
 
     ``params`` (n, 1 + 144): the change time in control steps, then the get-up
     genome. Memory per episode: the rules' touch time (kept counting).
@@ -99,6 +100,7 @@ class RuleGetupController:
 
     rules: RuleController
     below: float = 0.5
+    low: float = 0.0
     getup: MLP = MLP()
 
     @property
@@ -128,7 +130,7 @@ class RuleGetupController:
     ) -> tuple[np.ndarray, np.ndarray]:
         change, getup = prepared
         deltas, memory = self.rules.act(change, memory, obs, targets, step)
-        over = obs[:, 8] < self.below
+        over = (obs[:, 8] < self.below) & (obs[:, 5] >= self.low)
         if over.any():
             deltas = np.where(over[:, None], self.getup.apply(getup, obs), deltas)
         return deltas, memory
