@@ -50,8 +50,19 @@ def test_groups_table_and_rank_test(runs, tmp_path, capsys):
     assert "no such group" in capsys.readouterr().err
 
 
-def test_runs_of_several_behaviours_are_refused(runs, tmp_path):
+def test_runs_of_several_behaviours_only_by_behaviour(runs, tmp_path):
     other = tmp_path / "legs"
     train(TrainConfig("return-legs", 0, 1, params_class("rcga")(population=4)),
           other, progress=False)  # fmt: skip
     assert exit_status(["compare", str(runs["rcga"][0]), str(other)]) == 2
+    groups = load_groups([runs["rcga"][0], other], by="behaviour")
+    assert [g.label for g in groups] == ["kick", "return-legs"]
+
+
+def test_optimizer_labels_name_the_settings_that_differ():
+    from locustjump.compare import optimizer_label
+
+    rcga = params_class("rcga")
+    assert optimizer_label(rcga(population=10)) == "rcga"
+    assert optimizer_label(rcga(crossover="sbx")) == "rcga(crossover=sbx)"
+    assert optimizer_label(params_class("cma")(sigma0=1.0)) == "cma(sigma0=1.0)"

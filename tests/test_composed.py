@@ -332,3 +332,11 @@ def test_reproduce_cli_bad_input(tmp_path, capsys):
     assert main(["reproduce", "--out", str(tmp_path / "f"), "--quiet"]) == 2
     assert "not a directory" in capsys.readouterr().err
     assert (tmp_path / "f").read_text() == "x"
+
+
+def test_sign_test_over_seeds():
+    from locustjump.behaviours.composed import sign_test
+
+    assert sign_test(0, 5) == sign_test(5, 5) == 2 / 32
+    assert sign_test(1, 5) == 2 * 6 / 32
+    assert sign_test(2, 4) == 1.0 and sign_test(0, 1) == 1.0

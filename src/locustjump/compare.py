@@ -65,7 +65,9 @@ def load_groups(
     dirs: Sequence[str | os.PathLike], by: str = "optimizer"
 ) -> list[Group]:
     """The runs in ``dirs`` grouped by ``by`` (one of :data:`KEYS`), in the
-    order each value first appears; every run must be of one behaviour."""
+    order each value first appears. Every run must be of one behaviour, unless
+    grouped by behaviour (then theirs must be one fitness: composed and
+    monolithic, kick and kick-open, ...)."""
     if by not in KEYS:
         raise UserError(f"--by {by!r}: choose from {', '.join(KEYS)}")
     if not dirs:
@@ -82,7 +84,7 @@ def load_groups(
         found.setdefault(_key(cfg, by), []).append(
             (d, best.fitness, int(evals[-1]), (evals, np.maximum.accumulate(m["best"])))
         )
-    if len(behaviours) > 1:
+    if len(behaviours) > 1 and by != "behaviour":
         raise UserError(
             f"the runs are of several behaviours ({', '.join(sorted(behaviours))}); "
             "compare runs of one"

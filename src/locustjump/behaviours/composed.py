@@ -20,6 +20,7 @@ composition helps (see ``reproduce``).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -386,9 +387,18 @@ class Monolithic(_Successive):
         return lines + [
             "",
             f"Composition beats the monolithic network in {wins} of {len(pairs)} "
-            f"seeds; median ratio {fmt(med)}x.",
+            f"seeds; median ratio {fmt(med)}x; two-sided sign test over the "
+            f"seeds p = {sign_test(wins, len(pairs)):.3g}.",
             "",
         ]
+
+
+def sign_test(wins: int, n: int) -> float:
+    """Two-sided exact sign test: the probability of a split at least as
+    uneven as ``wins`` of ``n`` if either side wins each pair with odds 1/2."""
+    k = min(wins, n - wins)
+    tail = sum(math.comb(n, i) for i in range(k + 1)) / 2.0**n
+    return min(1.0, 2.0 * tail)
 
 
 __all__ = [
