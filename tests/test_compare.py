@@ -57,6 +57,10 @@ def test_runs_of_several_behaviours_only_by_behaviour(runs, tmp_path):
     assert exit_status(["compare", str(runs["rcga"][0]), str(other)]) == 2
     groups = load_groups([runs["rcga"][0], other], by="behaviour")
     assert [g.label for g in groups] == ["kick", "return-legs"]
+    groups = load_groups([runs["rcga"][0], other], by="behaviour,optimizer")
+    assert [g.label for g in groups] == ["kick / rcga", "return-legs / rcga"]
+    for bad in ("seed,seed", "colour", "behaviour,"):
+        assert exit_status(["compare", str(other), "--by", bad]) == 2
 
 
 def test_optimizer_labels_name_the_settings_that_differ():

@@ -54,6 +54,8 @@ def optimizer_label(params) -> str:
 
 
 def _key(cfg, by: str) -> str:
+    if "," in by:
+        return " / ".join(_key(cfg, k) for k in by.split(","))
     if by == "optimizer":
         return optimizer_label(cfg.optimizer)
     if by == "engine":
@@ -64,12 +66,16 @@ def _key(cfg, by: str) -> str:
 def load_groups(
     dirs: Sequence[str | os.PathLike], by: str = "optimizer"
 ) -> list[Group]:
-    """The runs in ``dirs`` grouped by ``by`` (one of :data:`KEYS`), in the
-    order each value first appears. Every run must be of one behaviour, unless
+    """The runs in ``dirs`` grouped by ``by`` (one of :data:`KEYS`, or several
+    joined by commas: ``behaviour,optimizer``), in the order each value first
+    appears. Every run must be of one behaviour, unless
     grouped by behaviour (then theirs must be one fitness: composed and
     monolithic, kick and kick-open, ...)."""
-    if by not in KEYS:
-        raise UserError(f"--by {by!r}: choose from {', '.join(KEYS)}")
+    keys = by.split(",")
+    if not all(k in KEYS for k in keys) or len(set(keys)) != len(keys):
+        raise UserError(
+            f"--by {by!r}: choose from {', '.join(KEYS)}, or several joined by commas"
+        )
     if not dirs:
         raise UserError("compare needs at least one run directory")
     found: dict[str, list] = {}
@@ -84,7 +90,7 @@ def load_groups(
         found.setdefault(_key(cfg, by), []).append(
             (d, best.fitness, int(evals[-1]), (evals, np.maximum.accumulate(m["best"])))
         )
-    if len(behaviours) > 1 and by != "behaviour":
+    if len(behaviours) > 1 and "behaviour" not in keys:
         raise UserError(
             f"the runs are of several behaviours ({', '.join(sorted(behaviours))}); "
             "compare runs of one"

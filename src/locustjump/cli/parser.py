@@ -388,7 +388,9 @@ def build_parser() -> argparse.ArgumentParser:
         ),
     )
     p.add_argument("dirs", nargs="+", metavar="DIR", help="training run directories")
-    p.add_argument("--by", choices=KEYS, default="optimizer")
+    p.add_argument("--by", default="optimizer", metavar="KEY[,KEY]",
+                   help=f"group by ({', '.join(KEYS)}, or several joined by "
+                   "commas; default optimizer)")  # fmt: skip
     p.add_argument("--reference", help="the group the others are tested against "
                    "(default: the first)")  # fmt: skip
     p.add_argument("--figure", metavar="FILE", help="write the convergence curves")
