@@ -13,8 +13,9 @@
 #                              CMA-ES and the RCGA, 50 x 1000, seeds 0-2
 #   scripts/study.sh composed  the composed behaviour on the simple networks of
 #                              results/paper-seed0, 50 x 300, switching every
-#                              120 (the paper), 30 or 10 steps (pN), with the
-#                              paper's kick or the kick-apex-cma-s0 one (apex-)
+#                              120 (the paper) or 10 steps (pN), with the
+#                              paper's kick or the kick-apex-cma-s0 one (apex-),
+#                              evolved by the RCGA or CMA-ES (cma-)
 #
 # Then e.g. (docs/science.md has every command):
 #   .venv/bin/locustjump compare runs/study/kick-{rcga,cma,random}-s* --reference rcga
@@ -24,9 +25,10 @@ one() {  # one run: BEHAVIOUR NAME SEED ENGINE GENERATIONS
   local d=runs/study/$1-$2-s$3 how simple=results/paper-seed0 kick
   case $1/$2 in
     */rcga-*) how="--config scripts/study/$2.toml" ;;
-    composed/*) kick=$simple/kick
-       case $2 in apex-*) kick=runs/study/kick-apex-cma-s0 ;; esac
-       how="--switch-every ${2##*p} --kick $kick --getup $simple/getup
+    composed/*) kick=$simple/kick how=
+       case $2 in *apex-*) kick=runs/study/kick-apex-cma-s0 ;; esac
+       case $2 in cma-*) how="--optimizer cma" ;; esac
+       how="$how --switch-every ${2##*p} --kick $kick --getup $simple/getup
             --return-legs $simple/return-legs" ;;
     *) how="--optimizer $2" ;;
   esac
@@ -41,7 +43,7 @@ case $1 in
         seeds="0 1 2 3 4 5 6 7 8 9" engine=numpy ;;
   ceiling) behaviours="kick-apex kick-apex-open kick-open" names="cma rcga"
            seeds="0 1 2" engine=numba ;;
-  composed) behaviours=composed names="p10 p30 apex-p120 apex-p10 p120"
+  composed) behaviours=composed names="p10 apex-p10 apex-p120 cma-p120"
             seeds=0 engine=numba gens=300 ;;
   *) echo "usage: scripts/study.sh kick|ceiling|composed" >&2; exit 2 ;;
 esac
