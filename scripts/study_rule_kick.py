@@ -60,21 +60,26 @@ def main() -> None:
     p = lm.LocustParams()
     base = RuleController.for_model(p)
 
-    def row(label: str, h: float) -> None:
-        mark = " <= ceiling/2" if h <= ceiling / 2 else ""
-        print(f"| {label} | {h:.3f} | {h / ceiling:.2f}{mark} |")
+    def frac(h: float) -> str:
+        return f"{h / ceiling:.2f}" + (" (≤ ½)" if h <= ceiling / 2 else "")
 
-    print("| rule-based kick | first apex rise (m) | fraction of the ceiling |")
+    print("| rule-based kick rate (deg/step) | first apex rise (m) | "
+          "fraction of the ceiling |")  # fmt: skip
     print("| --- | --- | --- |")
     for rate in RATES:
         rc = RuleController(base.ready, base.extended, math.radians(rate))
-        row(f"rate {rate} deg/step, hip {p.kick_hip:g}, knee {p.kick_knee:g}",
-            first_rise(rc, p))  # fmt: skip
+        h = first_rise(rc, p)
+        print(f"| {rate} | {h:.3f} | {frac(h)} |")
+    print(f"\nKick posture at 10 deg/step: fraction of the ceiling (model's: hip "
+          f"{p.kick_hip:g}, knee {p.kick_knee:g})\n")  # fmt: skip
+    print("| hip \\ knee (deg) | " + " | ".join(map(str, KNEES)) + " |")
+    print("| --- " * (len(KNEES) + 1) + "|")
     for hip in HIPS:
+        cells = []
         for knee in KNEES:
             kick = np.radians([hip, knee, hip, knee])
-            rc = RuleController(base.ready, tuple(kick))
-            row(f"rate 10 deg/step, hip {hip}, knee {knee}", first_rise(rc, p))
+            cells.append(frac(first_rise(RuleController(base.ready, tuple(kick)), p)))
+        print(f"| {hip} | " + " | ".join(cells) + " |")
 
 
 if __name__ == "__main__":
