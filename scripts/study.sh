@@ -15,7 +15,8 @@
 #                              results/paper-seed0, 50 x 300, switching every
 #                              120 (the paper) or 10 steps (pN), with the
 #                              paper's kick or the kick-apex-cma-s0 one (apex-),
-#                              evolved by the RCGA or CMA-ES (cma-)
+#                              evolved by the RCGA or CMA-ES (cma-), the
+#                              physics at 3 (the default) or 6 substeps (sub6-)
 #
 # Then e.g. (docs/science.md has every command):
 #   .venv/bin/locustjump compare runs/study/kick-{rcga,cma,random}-s* --reference rcga
@@ -28,6 +29,7 @@ one() {  # one run: BEHAVIOUR NAME SEED ENGINE GENERATIONS
     composed/*) kick=$simple/kick how=
        case $2 in *apex-*) kick=runs/study/kick-apex-cma-s0 ;; esac
        case $2 in cma-*) how="--optimizer cma" ;; esac
+       case $2 in *sub6-*) how="$how --config scripts/study/substeps6.toml" ;; esac
        how="$how --switch-every ${2##*p} --kick $kick --getup $simple/getup
             --return-legs $simple/return-legs" ;;
     *) how="--optimizer $2" ;;
@@ -43,7 +45,7 @@ case $1 in
         seeds="0 1 2 3 4 5 6 7 8 9" engine=numpy ;;
   ceiling) behaviours="kick-apex kick-apex-open kick-open" names="cma rcga"
            seeds="0 1 2" engine=numba ;;
-  composed) behaviours=composed names="p10 apex-p10 apex-p120 cma-p120"
+  composed) behaviours=composed names="p10 apex-p10 apex-sub6-p10 apex-p120 cma-p120"
             seeds=0 engine=numba gens=300 ;;
   *) echo "usage: scripts/study.sh kick|ceiling|composed" >&2; exit 2 ;;
 esac

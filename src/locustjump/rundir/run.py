@@ -32,6 +32,11 @@ from locustjump.rundir.layout import (
 # --- config ---------------------------------------------------------------------
 
 
+#: model fields that say how the creature is computed, not which creature it
+#: is: a frozen run may differ from the run built on it in these
+NUMERICAL_MODEL_FIELDS = ("engine", "substeps")
+
+
 def load_config(path: str | os.PathLike, *, behaviour: str = "kick"):
     """Read a (possibly partial) TOML config; missing keys take the defaults
     (``behaviour`` where the file names none)."""
@@ -152,14 +157,18 @@ class FrozenGenomes:
                     f"--{name} {d}: holds a {cfg.behaviour!r} run, not {name!r}"
                     + (f" ({size} genes, not {frozen_size})" if variant else "")
                 )
-            # the same creature; the engine path may differ (frozen networks
-            # evolved on NumPy run as well compiled, within a few ulp a step)
-            if dataclasses.replace(cfg.model, engine=model.engine) != model:
+            # the same creature; how it is computed may differ: the engine
+            # path (frozen networks evolved on NumPy run as well compiled,
+            # within a few ulp a step) and the physics substeps (a network
+            # evolved at 3 may be composed at 6, docs/science.md)
+            free = dict.fromkeys(NUMERICAL_MODEL_FIELDS)
+            free = {k: getattr(model, k) for k in free}
+            if dataclasses.replace(cfg.model, **free) != model:
                 ours = cfg.replace(model=model).to_dict()["model"]
                 diff = [
                     k
                     for k, v in cfg.to_dict()["model"].items()
-                    if ours[k] != v and k != "engine"
+                    if ours[k] != v and k not in free
                 ]
                 raise UserError(
                     f"--{name} {d}: its model parameters differ from this run's "

@@ -1,0 +1,74 @@
+"""Issue #20: do the evolved controllers' scores survive finer physics?
+
+Every run's best genome re-simulated with 3 (the default), 6, 12 and 24
+physics substeps per control step, everything else as the run's config;
+printed per group of runs (``--by``, as ``locustjump compare``): the median
+[min, max] fitness at each, so that an optimizer, a fitness or a setting is
+judged on what holds when the simulation converges, not on what only the
+3-substep discretisation gives.
+
+    .venv/bin/python scripts/study_substeps.py runs/study/kick-rcga-s* \\
+        runs/study/kick-cma-s* [--by optimizer] [--runs]
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from locustjump import rundir
+from locustjump.compare import _key
+
+SUBSTEPS = (3, 6, 12, 24)
+
+
+def fitness_at(run: Path) -> tuple[object, list[float]]:
+    """(config, fitness of the best genome at each of SUBSTEPS)."""
+    cfg, beh, best = rundir.load_run(run)
+    out = []
+    for n in SUBSTEPS:
+        p = dataclasses.replace(cfg.model, substeps=n)
+        res = beh.simulate(best.genome[None], p, record=beh.record)
+        out.append(float(beh.fitness(res, p)[0]))
+    return cfg, out
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("runs", nargs="+", type=Path)
+    ap.add_argument("--by", default="optimizer", help="as locustjump compare --by")
+    ap.add_argument("--runs", dest="each", action="store_true", help="a row per run")
+    args = ap.parse_args(argv)
+    groups: dict[str, list[list[float]]] = {}
+    head = " | ".join(f"{n} substeps" for n in SUBSTEPS)
+    if args.each:
+        print(f"| run | {head} | at 12 / at 3 |")
+        print("| --- " * (len(SUBSTEPS) + 2) + "|")
+    for run in args.runs:
+        if not rundir.is_run(run):
+            print(f"error: {run}: holds no run", file=sys.stderr)
+            return 2
+        cfg, f = fitness_at(run)
+        groups.setdefault(_key(cfg, args.by), []).append(f)
+        if args.each:
+            cells = " | ".join(f"{x:.4g}" for x in f)
+            print(f"| {run.name} | {cells} | {f[2] / f[0]:.2f} |")
+    if args.each:
+        print()
+    print(f"| group | runs | {head} |")
+    print("| --- " * (len(SUBSTEPS) + 2) + "|")
+    for label, rows in groups.items():
+        a = np.array(rows)
+        cells = " | ".join(
+            f"{np.median(c):.4g} [{c.min():.4g}, {c.max():.4g}]" for c in a.T
+        )
+        print(f"| {label} | {len(rows)} | {cells} |")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
