@@ -56,7 +56,7 @@ def main(argv: list[str] | None = None) -> int:
         groups.setdefault(_key(cfg, args.by), []).append(f)
         if args.each:
             cells = " | ".join(f"{x:.4g}" for x in f)
-            print(f"| {run.name} | {cells} | {f[2] / f[0]:.2f} |")
+            print(f"| {run.as_posix()} | {cells} | {f[2] / f[0]:.2f} |")
     if args.each:
         print()
     print(f"| group | runs | {head} |")
