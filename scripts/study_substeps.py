@@ -42,6 +42,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("runs", nargs="+", type=Path)
     ap.add_argument("--by", default="optimizer", help="as locustjump compare --by")
     ap.add_argument("--runs", dest="each", action="store_true", help="a row per run")
+    ap.add_argument(
+        "--rule", action="store_true", help="also the rule-based jumper's Σz"
+    )
     args = ap.parse_args(argv)
     groups: dict[str, list[list[float]]] = {}
     head = " | ".join(f"{n} substeps" for n in SUBSTEPS)
@@ -57,7 +60,16 @@ def main(argv: list[str] | None = None) -> int:
         if args.each:
             cells = " | ".join(f"{x:.4g}" for x in f)
             print(f"| {run.as_posix()} | {cells} | {f[2] / f[0]:.2f} |")
-    if args.each:
+    if args.rule:
+        from locustjump import model as lm
+        from locustjump.rules import run_rules
+
+        z = []
+        for n in SUBSTEPS:
+            q = run_rules(steps=3000, model_params=lm.LocustParams(substeps=n)).qpos
+            z.append(f"{q[1:, 2].sum():.4g}")
+        print(f"| rule-based jumper, Σz from standing | {' | '.join(z)} | |")
+    if args.each or args.rule:
         print()
     print(f"| group | runs | {head} |")
     print("| --- " * (len(SUBSTEPS) + 2) + "|")
