@@ -16,9 +16,10 @@ import numpy as np
 
 from locustjump.behaviours.base import Behaviour, Claim
 from locustjump.behaviours.ceiling import CEILING
-from locustjump.behaviours.composed import SIMPLE, Composed, Monolithic
+from locustjump.behaviours.composed import SIMPLE, Composed
 from locustjump.behaviours.getup import GetUp
 from locustjump.behaviours.kick import Kick
+from locustjump.behaviours.monolithic import Monolithic
 from locustjump.behaviours.return_legs import ReturnLegs
 
 _REGISTRY: dict[str, type[Behaviour]] = {}
