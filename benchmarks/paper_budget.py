@@ -39,8 +39,20 @@ def main() -> None:
     ap.add_argument("--repeats", type=int, default=2, help="physics-only repeats")
     ap.add_argument("--simple-from", metavar="DIR", help="a reproduction directory")
     ap.add_argument("--stages", nargs="+", choices=STAGES, default=list(STAGES))
-    ap.add_argument("--engine", choices=("numpy", "numba"), default="numba")
+    ap.add_argument(
+        "--engine",
+        choices=("numpy", "numba", "numba-loop"),
+        default="numba",
+        help="numba-loop: the compiled path's step-by-step loop (the controllers "
+        "called from Python once a control step, not inside MuJoCo's threads)",
+    )
     args = ap.parse_args()
+    engine = args.engine
+    if engine == "numba-loop":
+        from locustjump import incallback
+
+        incallback.AVAILABLE = False  # run_batch then runs the step loop
+        engine = "numba"
 
     print(
         f"mujoco {mujoco.__version__}, {args.threads} threads, engine {args.engine}, "
@@ -61,7 +73,7 @@ def main() -> None:
             threads=args.threads,
             repeats=args.repeats,
             simple=simple,
-            engine=args.engine,
+            engine=engine,
         )
         est = t.median_wall_s * PAPER_GENERATIONS
         total += est

@@ -1,19 +1,26 @@
-"""The engine's serial work per control step, apart from the C physics.
+"""The engine's serial work per control step, apart from the C calls.
 
-Per control step the engine runs, on one core whatever the thread count:
-sensors, the networks, the actuation rule, the touch reduction, the
-instability check, the recording and the Python side of the ``Batch.rollout``
-call. This script times whole rollouts of ``--episodes`` episodes (random
-9-10-4 networks from the five getup start states, tiled, ``--steps`` control
-steps, the training record) and the time spent inside the C call of each
-``Batch.rollout`` (the physics, stepped on the batch's thread pool); the
-difference is the serial work. Rollouts of two lengths separate its per-step
-part (the slope) from the per-rollout part (setup, record allocation).
-Prints medians of ``--repeats`` rollouts per engine path, next to the physics
-time of one control step on 1 and 2 threads. Issue target: <= 20 us a step at
-50 episodes, <= 50 us at 250.
+On the step loops (``numpy``; ``numba-loop``, the compiled kernel called once a
+control step) the engine runs, per control step and on one core whatever the
+thread count: sensors, the networks, the actuation rule, the touch reduction,
+the instability check, the recording and the Python side of the
+``Batch.rollout`` call. On ``numba`` (the default path: the controllers inside
+MuJoCo's control callback, :mod:`locustjump.incallback`) all of that runs in
+the batch's C threads, beside the physics, and a rollout is one C call.
 
-    python benchmarks/serial.py [--episodes 50 250] [--engines numpy numba]
+This script times whole rollouts of ``--episodes`` episodes (random 9-10-4
+networks from the five getup start states, tiled, ``--steps`` control steps,
+the training record) and the time spent inside the C calls (``Batch.rollout``:
+the physics, and on ``numba`` the controllers too, on the batch's thread
+pool); the difference is the serial work. Rollouts of two lengths separate its
+per-step part (the slope) from the per-rollout part (setup, record
+allocation). Prints medians of ``--repeats`` rollouts per path, next to the C
+time of one control step on 1 and 2 threads; the C time of ``numba`` over that
+of ``numba-loop`` (the same physics, stepped without the controllers) is the
+cost of the controllers inside the threads. Issue target: serial <= 20 us a
+step at 50 episodes, <= 50 us at 250.
+
+    python benchmarks/serial.py [--episodes 50 250] [--paths numpy numba-loop numba]
 """
 
 from __future__ import annotations
@@ -27,11 +34,12 @@ from mujoco.batch import Batch
 
 from locustjump import model as lm
 from locustjump.behaviours import get_behaviour
+from locustjump.compiled import run_compiled
 from locustjump.controller import MLP
-from locustjump.params import ENGINES
 from locustjump.rollout import RolloutJob, run_batch
 
 TARGETS = {50: 20.0, 250: 50.0}
+PATHS = ("numpy", "numba-loop", "numba")
 CORES = (1, 2, 4, 8, 16, 32, 64)
 
 
@@ -53,9 +61,9 @@ class _TimedCore:
         return getattr(self._core, name)
 
 
-def measure(n: int, steps: int, threads: int, engine: str) -> tuple[float, float]:
-    """(serial, physics) seconds per control step of one rollout."""
-    p = lm.LocustParams(engine=engine)
+def measure(n: int, steps: int, threads: int, path: str) -> tuple[float, float]:
+    """(serial, in C) seconds per control step of one rollout on ``path``."""
+    p = lm.LocustParams(engine="numpy" if path == "numpy" else "numba")
     beh = get_behaviour("getup")
     starts = beh.start_states(p)
     genomes = MLP().random_genomes(np.random.default_rng(n), n)
@@ -66,7 +74,7 @@ def measure(n: int, steps: int, threads: int, engine: str) -> tuple[float, float
     core = _TimedCore(batch._b)
     object.__setattr__(batch, "_b", core)
     t0 = time.perf_counter()
-    run_batch(batch, job)
+    (run_compiled if path == "numba-loop" else run_batch)(batch, job)
     wall = time.perf_counter() - t0
     return (wall - core.seconds) / steps, core.seconds / steps
 
@@ -82,7 +90,7 @@ def main() -> None:
         help="two episode lengths: the per-step part is the slope",
     )
     ap.add_argument("--repeats", type=int, default=5)
-    ap.add_argument("--engines", nargs="+", choices=ENGINES, default=list(ENGINES))
+    ap.add_argument("--paths", nargs="+", choices=PATHS, default=list(PATHS))
     args = ap.parse_args()
     t1, t2 = args.steps
     print(
@@ -90,15 +98,15 @@ def main() -> None:
         "serial per step = slope, per rollout = the rest (setup, records)"
     )
     print(
-        f"{'episodes':>8} {'engine':>7} {'serial us/step':>15} {'per rollout':>12} "
-        f"{'physics 1t':>11} {'physics 2t':>11} {'target':>8}"
+        f"{'episodes':>8} {'path':>10} {'serial us/step':>15} {'per rollout':>12} "
+        f"{'in C 1t':>11} {'in C 2t':>11} {'target':>8}"
     )
     model: list[tuple[int, str, float, float, float]] = []
     for n in args.episodes:
-        for engine in args.engines:
-            measure(n, 20, 1, engine)  # warm-up (and the kernel's compilation)
+        for path in args.paths:
+            measure(n, 20, 1, path)  # warm-up (and the kernel's compilation)
             runs = {
-                (T, th): [measure(n, T, th, engine) for _ in range(args.repeats)]
+                (T, th): [measure(n, T, th, path) for _ in range(args.repeats)]
                 for T in (t1, t2)
                 for th in (1, 2)
             }
@@ -117,9 +125,9 @@ def main() -> None:
                 if target is None
                 else f"{'ok' if s <= target else 'OVER'} {target:g}"
             )
-            model.append((n, engine, per_step, phys[1], phys[2]))
+            model.append((n, path, per_step, phys[1], phys[2]))
             print(
-                f"{n:>8} {engine:>7} {s:>15.1f} {fixed * 1e3:>10.2f}ms "
+                f"{n:>8} {path:>10} {s:>15.1f} {fixed * 1e3:>10.2f}ms "
                 f"{phys[1] * 1e6:>11.1f} {phys[2] * 1e6:>11.1f} {ok:>8}",
                 flush=True,
             )
@@ -129,21 +137,21 @@ def main() -> None:
 
 def print_model(rows) -> None:
     """PREDICTION (Amdahl): a control step on k cores costs s + p1 / k (serial
-    work s, physics p1 on one core; never more cores than episodes), checked
+    work s, C time p1 on one core; never more cores than episodes), checked
     against the 2-thread measurement."""
     print(
         "\nPREDICTION: speed-up of a control step on k cores, s + p1/k "
         "(check: predicted vs measured 2 threads)"
     )
     print(
-        f"{'episodes':>8} {'engine':>7} {'2t pred/meas':>13}"
+        f"{'episodes':>8} {'path':>10} {'2t pred/meas':>13}"
         + "".join(f"{k:>7}" for k in CORES)
     )
-    for n, engine, s, p1, p2 in rows:
+    for n, path, s, p1, p2 in rows:
         one = s + p1
         pred2, meas2 = s + p1 / 2, s + p2
         cells = "".join(f"{one / (s + p1 / min(k, n)):>6.1f}x" for k in CORES)
-        print(f"{n:>8} {engine:>7} {pred2 / meas2:>13.2f}{cells}")
+        print(f"{n:>8} {path:>10} {pred2 / meas2:>13.2f}{cells}")
 
 
 if __name__ == "__main__":

@@ -11,6 +11,13 @@
 #   scripts/study.sh ceiling   the kick's ceiling: apex fitness and/or open-loop
 #                              control (kick-apex, kick-apex-open, kick-open),
 #                              CMA-ES and the RCGA, 50 x 1000, seeds 0-2
+#   scripts/study.sh long      getup, return-legs and composed at the long
+#                              budget of `reproduce` (population 50; 20, 60
+#                              and 120 generations; composed on the simple
+#                              networks of results/long-seed0, switching
+#                              every 120 steps), seeds 0-2 of the RCGA, its
+#                              SBX and UNDX variants, CMA-ES and random
+#                              search; into runs/study/long-<behaviour>-...
 #   scripts/study.sh composed  the composed behaviour on the simple networks of
 #                              results/paper-seed0, 50 x 300, switching every
 #                              120 (the paper) or 10 steps (pN), with the
@@ -24,6 +31,7 @@ set -e
 cd "$(dirname "$0")/.."
 one() {  # one run: BEHAVIOUR NAME SEED ENGINE GENERATIONS
   local d=runs/study/$1-$2-s$3 how simple=results/paper-seed0 kick
+  case $1 in long-*) simple=results/long-seed0 ;; esac
   case $1/$2 in
     */rcga-*) how="--config scripts/study/$2.toml" ;;
     composed/*) kick=$simple/kick how=
@@ -34,8 +42,11 @@ one() {  # one run: BEHAVIOUR NAME SEED ENGINE GENERATIONS
             --return-legs $simple/return-legs" ;;
     *) how="--optimizer $2" ;;
   esac
+  case $1 in long-composed)
+    how="$how --kick $simple/kick --getup $simple/getup --return-legs $simple/return-legs" ;;
+  esac
   if [ -f "$d/config.toml" ]; then how=--resume; else how="$how --engine $4"; fi
-  .venv/bin/locustjump train "$1" --seed "$3" --generations "$5" \
+  .venv/bin/locustjump train "${1#long-}" --seed "$3" --generations "$5" \
     --threads 1 --quiet --out "$d" $how
 }
 export -f one
@@ -45,12 +56,17 @@ case $1 in
         seeds="0 1 2 3 4 5 6 7 8 9" engine=numpy ;;
   ceiling) behaviours="kick-apex kick-apex-open kick-open" names="cma rcga"
            seeds="0 1 2" engine=numba ;;
+  long) behaviours="long-getup long-return-legs long-composed"
+        names="rcga cma random rcga-sbx rcga-undx" seeds="0 1 2" engine=numba ;;
   composed) behaviours=composed names="p10 apex-p10 apex-sub6-p10 apex-p120 cma-p120"
             seeds=0 engine=numba gens=300 ;;
-  *) echo "usage: scripts/study.sh kick|ceiling|composed" >&2; exit 2 ;;
+  *) echo "usage: scripts/study.sh kick|ceiling|long|composed" >&2; exit 2 ;;
 esac
 for s in ${SEEDS:-$seeds}; do
   for b in $behaviours; do
-    for n in ${NAMES:-$names}; do echo "$b $n $s $engine $gens"; done
+    case $b in  # the long budget of reproduce
+      long-getup) g=20 ;; long-return-legs) g=60 ;; long-composed) g=120 ;; *) g=$gens ;;
+    esac
+    for n in ${NAMES:-$names}; do echo "$b $n $s $engine $g"; done
   done
 done | xargs -P "${JOBS:-1}" -L 1 bash -c 'one "$@"' _

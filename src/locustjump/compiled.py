@@ -10,6 +10,7 @@ NumPy ``act`` between the kernels, with the same result as on the NumPy path.
 
 from __future__ import annotations
 
+import mujoco
 import numpy as np
 from mujoco.batch import Batch, SimulationError
 
@@ -72,7 +73,7 @@ def run_compiled(batch: Batch, job: RolloutJob) -> RolloutResult:
     """:func:`locustjump.rollout.run_batch` on the compiled path."""
     m = batch.model
     n, T, S = job.n_episodes, job.n_steps, job.model_params.substeps
-    batch.reset()
+    batch.reset(stage=mujoco.mjtStage.mjSTAGE_NONE)  # forward() follows the writes
     qpos = batch.bind("qpos")
     qpos[:] = job.starts.qpos
     batch.bind("qvel")[:] = job.starts.qvel

@@ -166,7 +166,7 @@ def to_mjcf(p: LocustParams = LocustParams(), *, keyframe: bool = True) -> str:
   <compiler angle="degree" autolimits="true"/>
   <option timestep="{p.timestep:.12g}" integrator="{p.integrator}" cone="pyramidal"
           iterations="{p.iterations}" ls_iterations="{p.ls_iterations}"/>
-  <size memory="1M"/>
+  <size memory="1M" nuserdata="3"/>
   <visual>
     <global offwidth="1280" offheight="720"/>
     <quality shadowsize="2048"/>

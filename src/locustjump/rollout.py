@@ -211,16 +211,18 @@ def record_shapes(nq: int, nmem: int) -> dict[str, tuple[int, ...]]:
 def run_batch(batch: Batch, job: RolloutJob) -> RolloutResult:
     """Every episode of ``job`` on ``batch``, on the job's engine path
     (``job.model_params.engine``): the NumPy loop below (the reference) or
-    the compiled one (:mod:`locustjump.compiled`)."""
+    the compiled one, whose controllers run inside the batch's threads
+    (:mod:`locustjump.incallback`; the same numbers as its step-by-step loop,
+    :mod:`locustjump.compiled`)."""
     if job.model_params.engine == "numba":
-        from locustjump.compiled import run_compiled
+        from locustjump.incallback import run_incallback
 
-        return run_compiled(batch, job)
+        return run_incallback(batch, job)
     m = batch.model
     p = job.model_params
     idx = lm.ModelIndex.of(m)
     n, T = job.n_episodes, job.n_steps
-    batch.reset()
+    batch.reset(stage=mujoco.mjtStage.mjSTAGE_NONE)  # forward() follows the writes
     qpos, qvel, ctrl = batch.bind("qpos"), batch.bind("qvel"), batch.bind("ctrl")
     sens = batch.bind("sensordata")
     warn = batch.warning

@@ -1,0 +1,172 @@
+"""The compiled path with the controllers inside MuJoCo's control callback
+(:mod:`locustjump.incallback`) against its step-by-step loop
+(:func:`locustjump.compiled.run_compiled`): the same kernels on one episode's
+slices, so every record, failure step and step count agrees bit for bit."""
+
+import ctypes
+import dataclasses
+
+import mujoco
+import numpy as np
+import pytest
+from mujoco.batch import Batch
+
+from locustjump import incallback
+from locustjump import model as lm
+from locustjump.behaviours import get_behaviour
+from locustjump.behaviours.composed import SwitchingController
+from locustjump.compiled import run_compiled
+from locustjump.controller import MLP
+from locustjump.incallback import run_incallback
+from locustjump.rollout import RECORDABLE, RolloutJob, StartStates
+
+needs_layout = pytest.mark.skipif(
+    not incallback.AVAILABLE, reason="this MuJoCo's mjData layout is not known"
+)
+
+
+def test_the_kernels_digest_is_current():
+    """incallback.py's cached compiled code calls kernels.py, whose changes
+    Numba's cache does not notice: a change there must come with this digest."""
+    assert incallback.kernels_digest() == incallback.KERNELS_SHA256, (
+        "kernels.py changed: set incallback.KERNELS_SHA256 = "
+        f'"{incallback.kernels_digest()}"'
+    )
+
+
+def test_the_field_offsets_are_those_of_this_mujoco():
+    from locustjump import mjlayout
+
+    assert mjlayout.offsets(incallback.NUSERDATA) is not None
+
+
+def _both(job: RolloutJob, threads: int = 2):
+    m = lm.load_model(job.model_params)
+    batch = Batch(m, job.n_episodes, threads, persistent=True)
+    return run_compiled(batch, job), run_incallback(batch, job)
+
+
+def _same(a, b) -> None:
+    assert a.records.keys() == b.records.keys()
+    for k in a.records:
+        np.testing.assert_array_equal(a[k], b[k], err_msg=k)
+    np.testing.assert_array_equal(a.unstable, b.unstable)
+    np.testing.assert_array_equal(a.steps, b.steps)
+    assert a.control_steps == b.control_steps
+
+
+def _getup_job(substeps: int, controller, n: int, steps: int, seed: int = 0):
+    p = lm.LocustParams(engine="numba", substeps=substeps)
+    starts = get_behaviour("getup").start_states(p)
+    rng = np.random.default_rng(seed)
+    params = rng.uniform(-1, 1, (n, controller.num_params))
+    return RolloutJob(p, controller, params, starts.take(np.arange(n) % len(starts)),
+                      steps, RECORDABLE)  # fmt: skip
+
+
+@pytest.mark.parametrize("substeps", [1, 3])
+@needs_layout
+def test_networks_in_the_callback_give_the_step_loops_numbers(substeps):
+    a, b = _both(_getup_job(substeps, MLP(), 12, 150))
+    _same(a, b)
+    assert not a.unstable.any()
+
+
+@pytest.mark.parametrize("every", [120, 7])
+@needs_layout
+def test_the_switcher_in_the_callback_gives_the_step_loops_numbers(every):
+    simple = MLP().random_genomes(np.random.default_rng(3), 3)
+    ctl = SwitchingController(simple=simple, every=every)
+    a, b = _both(_getup_job(3, ctl, 8, 260, seed=every))
+    _same(a, b)
+    assert len(np.unique(b["memory"])) > 1  # it switched
+
+
+@needs_layout
+def test_blowups_are_simulated_again_on_the_step_loop():
+    """qvel 100 fails at control step 57, 1e30 at once: their records and
+    steps are the step loop's; the others are those of a run without them."""
+    p = lm.LocustParams(engine="numba")
+    starts = StartStates.ready(lm.load_model(p)).take([0, 0, 0, 0])
+    starts.qvel[:, :] = np.array([0.0, 100.0, 0.0, 1e30])[:, None]
+    genome = MLP().random_genomes(np.random.default_rng(1), 1, 3.0)
+    job = RolloutJob(p, MLP(), np.repeat(genome, 4, 0), starts, 120, RECORDABLE)
+    a, b = _both(job)
+    _same(a, b)
+    assert b.unstable.tolist() == [False, True, False, True]
+    assert 1 < b.steps[1] < 120
+    calm = run_incallback(Batch(lm.load_model(p), 1, 1, persistent=True),
+                          dataclasses.replace(job, params=job.params[:1],
+                                              starts=starts.take([0])))  # fmt: skip
+    np.testing.assert_array_equal(b["qpos"][2], calm["qpos"][0])
+
+
+@needs_layout
+def test_chunked_calls_under_a_progress_bar_change_nothing():
+    job = _getup_job(3, MLP(), 6, 250)
+    plain = run_incallback(Batch(lm.load_model(job.model_params), 6, 2,
+                                 persistent=True), job)  # fmt: skip
+    _, chunked = _both(dataclasses.replace(job, label="test"))
+    _same(plain, chunked)
+
+
+@needs_layout
+def test_threads_and_batch_splits_change_nothing():
+    job = _getup_job(3, MLP(), 10, 100, seed=5)
+    _, one = _both(job, threads=1)
+    _, two = _both(job, threads=2)
+    _same(one, two)
+    parts = [_both(j, threads=2)[1] for j in job.split(3)]
+    for k in one.records:
+        np.testing.assert_array_equal(np.concatenate([p[k] for p in parts]), one[k])
+
+
+@needs_layout
+def test_another_control_callback_is_respected():
+    """A callback the user installed stays, and the rollout runs on the step
+    loop (same numbers)."""
+    calls = []
+    theirs = ctypes.CFUNCTYPE(None, ctypes.c_void_p, ctypes.c_void_p)(
+        lambda m, d: calls.append(1)
+    )
+    job = _getup_job(3, MLP(), 4, 20)
+    want, _ = _both(job)
+    mujoco.set_mjcb_control(theirs)
+    try:
+        got = run_incallback(Batch(lm.load_model(job.model_params), 4, 1,
+                                   persistent=True), job)  # fmt: skip
+        assert mujoco.get_mjcb_control() is not None
+    finally:
+        mujoco.set_mjcb_control(None)
+    assert calls  # theirs ran
+    for k in want.records:
+        np.testing.assert_array_equal(got[k], want[k])
+
+
+@needs_layout
+def test_the_callback_leaves_other_simulations_alone():
+    """Installed, it ignores a model without userdata and a locust whose
+    marker is not set: both step as without it; afterwards none is left."""
+    p = lm.LocustParams()
+    m = lm.load_model(p)
+    other = mujoco.MjModel.from_xml_string(
+        "<mujoco><worldbody><body><freejoint/><geom size='.1'/></body>"
+        "</worldbody></mujoco>"
+    )
+    runs = []
+    for installed in (False, True):
+        d, od = mujoco.MjData(m), mujoco.MjData(other)
+        d.ctrl[:] = 0.3
+        if installed:
+            mujoco.set_mjcb_control(incallback._control.ctypes)
+        try:
+            mujoco.mj_step(m, d, 30)
+            mujoco.mj_step(other, od, 30)
+        finally:
+            mujoco.set_mjcb_control(None)
+        runs.append((d.qpos.copy(), d.ctrl.copy(), od.qpos.copy()))
+    for x, y in zip(*runs, strict=True):
+        np.testing.assert_array_equal(x, y)
+    job = _getup_job(3, MLP(), 2, 5)
+    run_incallback(Batch(m, 2, 1, persistent=True), job)
+    assert mujoco.get_mjcb_control() is None
