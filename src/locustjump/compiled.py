@@ -69,10 +69,10 @@ class _Step:
         return failed
 
 
-def run_compiled(batch: Batch, job: RolloutJob) -> RolloutResult:
-    """:func:`locustjump.rollout.run_batch` on the compiled path."""
-    m = batch.model
-    n, T, S = job.n_episodes, job.n_steps, job.model_params.substeps
+def start(batch: Batch, job: RolloutJob) -> tuple[_Step, dict, np.ndarray]:
+    """Every simulation at its start state, row 0 of the records and the first
+    action: the step (its state), the records and the batch's ``qpos``."""
+    m, n = batch.model, job.n_episodes
     batch.reset(stage=mujoco.mjtStage.mjSTAGE_NONE)  # forward() follows the writes
     qpos = batch.bind("qpos")
     qpos[:] = job.starts.qpos
@@ -82,15 +82,24 @@ def run_compiled(batch: Batch, job: RolloutJob) -> RolloutResult:
     sens = np.array(batch.bind("sensordata"))
     memory = np.zeros((n, job.controller.memory_size))
     shapes = record_shapes(m.nq, job.controller.memory_size)
-    rec = {k: np.empty((n, T + 1, *shapes[k])) for k in job.record}
+    rec = {k: np.empty((n, job.n_steps + 1, *shapes[k])) for k in job.record}
     step = _Step(batch, job, sens, memory, rec)
+    no_sub = np.empty((0, job.model_params.substeps, m.nsensordata))
+    step(0, False, no_sub, np.arange(n), False, True)
+    return step, rec, qpos
+
+
+def run_compiled(batch: Batch, job: RolloutJob) -> RolloutResult:
+    """:func:`locustjump.rollout.run_batch` on the compiled path."""
+    m = batch.model
+    n, T, S = job.n_episodes, job.n_steps, job.model_params.substeps
+    step, rec, qpos = start(batch, job)
     unstable, newly = step.unstable, step.newly
     steps = np.full(n, T)
     ids = np.arange(n)
     sub = {"sensordata": np.empty((n, S, m.nsensordata))}
     no_sub = np.empty((0, S, m.nsensordata))
     frozen = False  # some episode failed: ids are the others; records freeze
-    step(0, False, no_sub, ids, frozen, True)
     done = 0
     bar = _progress(job)
     for t in range(T):

@@ -46,13 +46,12 @@ from numba.extending import intrinsic
 from locustjump import kernels as K
 from locustjump import mjlayout
 from locustjump import model as lm
-from locustjump.compiled import _Step, run_compiled
+from locustjump.compiled import _Step, run_compiled, start
 from locustjump.rollout import (
     RECORDABLE,
     RolloutJob,
     RolloutResult,
     _progress,
-    record_shapes,
 )
 
 #: userdata[0] of a simulation this path drives
@@ -123,10 +122,11 @@ def _pointer(typingctx, addr):
 # --- the rollout's context: one int64 array of sizes and addresses ---------------
 
 # sizes
-_KIND, _N, _T, _S, _NQ, _NS, _NU, _NMEM, _NTOUCH, _H, _C, _OUTPUT, _EVERY = range(13)
+(_KIND, _N, _T, _S, _NQ, _NS, _NU, _NMEM, _NTOUCH, _H, _C, _OUTPUT, _EVERY,
+ _SHARED) = range(14)  # fmt: skip
 # addresses
 (_BL, _COUNTER, _TMAX, _JOINTS, _TOUCH, _LO, _HI, _OBS, _DELTAS, _HIDDEN, _CHOICE,
- _SCRATCH, _MEMORY, _RQ, _RO, _RC, _RM) = range(13, 30)  # fmt: skip
+ _MEMORY, _RQ, _RO, _RC, _RM) = range(14, 30)  # fmt: skip
 #: the network's (mlp) or the switcher's w1 b1 w2 b2, then the switched nets',
 #: each (n, ...) per episode: address, then 5 dims
 _NET, _NET_ARRAYS = 30, 8
@@ -191,12 +191,19 @@ def _episode(ctx, e, t, qpos, ctrl):
         K.mlp(_net4(ctx, 0, e), _net3(ctx, 1, e), _net4(ctx, 2, e), _net3(ctx, 3, e),
               obs, deltas, hidden, ctx[_OUTPUT])  # fmt: skip
     else:
-        sw = (_net4(ctx, 0, e), _net3(ctx, 1, e), _net4(ctx, 2, e), _net3(ctx, 3, e))
-        nets = (_net5(ctx, 4, e), _net4(ctx, 5, e), _net5(ctx, 6, e),
-                _net4(ctx, 7, e))  # fmt: skip
-        K.switch(t, ctx[_EVERY], sw, nets, memory, obs, deltas,
-                 _f64(ctx[_CHOICE], (n, ctx[_C], 1))[e],
-                 _f64(ctx[_SCRATCH], (n, 4, 1))[e], hidden)  # fmt: skip
+        if t % ctx[_EVERY] == 0:  # the switcher picks (kernels.switch's rule)
+            choice = _f64(ctx[_CHOICE], (n, ctx[_C], 1))[e]
+            K.mlp(_net4(ctx, 0, e), _net3(ctx, 1, e), _net4(ctx, 2, e),
+                  _net3(ctx, 3, e), obs, choice, hidden, K.SIGMOID)  # fmt: skip
+            best = 0
+            for c in range(1, choice.shape[0]):
+                if choice[c, 0] > choice[best, 0]:
+                    best = c
+            memory[0, 0] = best
+        # only the picked network: its numbers are those kernels.switch selects
+        c, s = int(memory[0, 0]), 0 if ctx[_SHARED] else e
+        K.mlp(_net5(ctx, 4, s)[c], _net4(ctx, 5, s)[c], _net5(ctx, 6, s)[c],
+              _net4(ctx, 7, s)[c], obs, deltas, hidden, K.DELTA)  # fmt: skip
     K.actuate(ctrl, deltas, _f64(ctx[_LO], nu), _f64(ctx[_HI], nu), never, False)
 
 
@@ -256,27 +263,15 @@ def run_incallback(batch: Batch, job: RolloutJob) -> RolloutResult:
     ctl = job.controller
     if not AVAILABLE or batch.model.nuserdata < NUSERDATA or not hasattr(ctl, "kernel"):
         return run_compiled(batch, job)
-    m, p = batch.model, job.model_params
-    n, T, S = job.n_episodes, job.n_steps, p.substeps
-    batch.reset(stage=mujoco.mjtStage.mjSTAGE_NONE)  # forward() follows the writes
-    qpos = batch.bind("qpos")
-    qpos[:] = job.starts.qpos
-    batch.bind("qvel")[:] = job.starts.qvel
-    batch.bind("ctrl")[:] = job.starts.ctrl
-    batch.forward()  # sensors at the start state, for every simulation
-    sens = np.array(batch.bind("sensordata"))
-    memory = np.zeros((n, ctl.memory_size))
-    shapes = record_shapes(m.nq, ctl.memory_size)
-    rec = {k: np.empty((n, T + 1, *shapes[k])) for k in job.record}
-    step = _Step(batch, job, sens, memory, rec)
-    ids = np.arange(n)
+    m, n, T, S = batch.model, job.n_episodes, job.n_steps, job.model_params.substeps
+    step, rec, qpos = start(batch, job)
     no_sub = np.empty((0, S, m.nsensordata))
-    step(0, False, no_sub, ids, False, True)  # row 0 and the first action
+    # keep: every array ctx points into, alive until this function returns
     ctx, tmax, keep = _context(batch, job, step, rec)
     user = batch.bind("userdata")
     user[:, 0] = MARKER
     user[:, 1] = float(ctx.ctypes.data)
-    user[:, 2] = ids
+    user[:, 2] = np.arange(n)
     try:
         with _installed() as ok:
             if not ok:
@@ -314,6 +309,10 @@ def _context(batch: Batch, job: RolloutJob, step: _Step, rec: dict) -> tuple:
     spec = ctl.kernel(step.prepared)
     nets = spec[1] + (spec[2] if spec[0] == "switch" else ())
     per_episode = [np.ascontiguousarray(np.moveaxis(a, -1, 0)[..., None]) for a in nets]
+    # the switched networks, when every episode holds the same: one copy
+    shared = all((a == a[:1]).all() for a in per_episode[4:])
+    if shared:
+        per_episode[4:] = [a[:1].copy() for a in per_episode[4:]]
     if spec[0] == "mlp":
         kind, hidden, choice, output, every = _MLP, nets[0].shape[0], 1, spec[2], 1
     else:
@@ -323,12 +322,12 @@ def _context(batch: Batch, job: RolloutJob, step: _Step, rec: dict) -> tuple:
     arrays = [np.array([job.model_params.body_length]), np.zeros(n, np.int64), tmax,
               np.asarray(idx.qpos_joints, np.int64), np.asarray(idx.touch, np.int64),
               step.lo, step.hi, np.zeros((n, 9, 1)), np.zeros((n, 4, 1)),
-              np.zeros((n, hidden, 1)), np.zeros((n, choice, 1)), np.zeros((n, 4, 1)),
+              np.zeros((n, hidden, 1)), np.zeros((n, choice, 1)),
               step.memory, *(rec.get(k) for k in RECORDABLE)]  # fmt: skip
     ctx = np.zeros(_LEN, np.int64)
     ctx[:_BL] = (kind, n, job.n_steps, job.model_params.substeps, m.nq,
                  m.nsensordata, m.nu, ctl.memory_size, len(idx.touch), hidden, choice,
-                 output, every)  # fmt: skip
+                 output, every, shared)  # fmt: skip
     for i, a in enumerate(arrays):
         if a is not None:
             assert a.flags.c_contiguous
@@ -375,9 +374,9 @@ def _step_all(batch: Batch, job: RolloutJob, substeps: int) -> None:
         return
     every = _CHUNK * job.model_params.substeps
     ids = None
-    for start in range(0, substeps, every):
-        batch.rollout(min(every, substeps - start), record=(), ids=ids)
-        bar.update(min(_CHUNK, job.n_steps - start // job.model_params.substeps))
+    for done in range(0, substeps, every):
+        batch.rollout(min(every, substeps - done), record=(), ids=ids)
+        bar.update(min(_CHUNK, job.n_steps - done // job.model_params.substeps))
         bad = (batch.warning[:, :, 1] > 0).any(axis=1)
         ids = np.flatnonzero(~bad) if bad.any() else None
         if ids is not None and ids.size == 0:
