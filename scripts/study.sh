@@ -23,7 +23,9 @@
 #                              120 (the paper) or 10 steps (pN), with the
 #                              paper's kick or the kick-apex-cma-s0 one (apex-),
 #                              evolved by the RCGA or CMA-ES (cma-), the
-#                              physics at 3 (the default) or 6 substeps (sub6-)
+#                              physics at 3 (the default) or 6 substeps (sub6-),
+#                              each genome scored as its worst of 3 and 6
+#                              (robust6-) or of 3, 6 and 12 substeps (robust-)
 #
 # Then e.g. (docs/science.md has every command):
 #   .venv/bin/locustjump compare runs/study/kick-{rcga,cma,random}-s* --reference rcga
@@ -38,6 +40,10 @@ one() {  # one run: BEHAVIOUR NAME SEED ENGINE GENERATIONS
        case $2 in *apex-*) kick=runs/study/kick-apex-cma-s0 ;; esac
        case $2 in cma-*) how="--optimizer cma" ;; esac
        case $2 in *sub6-*) how="$how --config scripts/study/substeps6.toml" ;; esac
+       case $2 in
+         *robust6-*) how="$how --score-substeps 6" ;;
+         *robust-*) how="$how --score-substeps 6,12" ;;
+       esac
        how="$how --switch-every ${2##*p} --kick $kick --getup $simple/getup
             --return-legs $simple/return-legs" ;;
     *) how="--optimizer $2" ;;
@@ -58,7 +64,8 @@ case $1 in
            seeds="0 1 2" engine=numba ;;
   long) behaviours="long-getup long-return-legs long-composed"
         names="rcga cma random rcga-sbx rcga-undx" seeds="0 1 2" engine=numba ;;
-  composed) behaviours=composed names="p10 apex-p10 apex-sub6-p10 apex-p120 cma-p120"
+  composed) behaviours=composed
+            names="p10 apex-p10 apex-sub6-p10 apex-p120 cma-p120 apex-robust6-p10"
             seeds=0 engine=numba gens=300 ;;
   *) echo "usage: scripts/study.sh kick|ceiling|long|composed" >&2; exit 2 ;;
 esac

@@ -199,7 +199,8 @@ def test_switch_every_option_and_kick_variants(simple_runs, tmp_path, capsys, pa
     assert main([*argv, *dirs, "--switch-every", "7", "--out", str(out)]) == 0
     cfg = rundir.load_config(out / rundir.CONFIG)
     assert cfg.options.switch_every == 7
-    assert "[options]\nswitch_every = 7" in (out / rundir.CONFIG).read_text()
+    text = (out / rundir.CONFIG).read_text()
+    assert "[options]\n" in text and "\nswitch_every = 7\n" in text
     assert cfg.hash() != cfg.replace(options=type(cfg.options)()).hash()
     _, beh, best = rundir.load_run(out)
     res = beh.simulate(best.genome[None], params, record=("memory",))

@@ -300,3 +300,36 @@ def test_a_run_made_before_pluggable_optimizers_resumes(shipped, tmp_path):
     assert after[: len(rows)] == rows and len(after) == len(rows) + 1
     with np.load(out / rundir.CHECKPOINT) as z:
         assert str(z["optimizer"]) == "rcga" and "opt_population" in z.files
+
+
+def test_score_substeps_takes_the_worst_resolution(tmp_path, capsys):
+    """--score-substeps (beyond the paper): each genome's fitness is the minimum
+    over the model's resolution and the given ones; recorded in config.toml,
+    hashed, checked on resume and reproduced by evaluate."""
+    argv = ["train", "kick", "--generations", "2", "--population", "4", "--quiet"]
+    plain, robust = tmp_path / "plain", tmp_path / "robust"
+    assert main([*argv, "--out", str(plain)]) == 0
+    assert main([*argv, "--score-substeps", "6,12", "--out", str(robust)]) == 0
+    cfg = rundir.load_config(robust / rundir.CONFIG)
+    assert cfg.options.score_substeps == (6, 12)
+    assert cfg.hash() != rundir.load_config(plain / rundir.CONFIG).hash()
+    _, beh, best = rundir.load_run(robust)
+    p = cfg.model
+    each = [
+        beh.fitness(beh.simulate(best.genome[None], q), q)[0]
+        for q in (p, *(dataclasses.replace(p, substeps=s) for s in (6, 12)))
+    ]
+    assert best.fitness == min(each)
+    assert evaluate_run(robust).matches
+    capsys.readouterr()
+    resume = ["train", "kick", "--resume", "--out", str(robust)]
+    assert main([*resume, "--score-substeps", "6"]) == 2
+    assert "--score-substeps (6,) differs" in capsys.readouterr().err
+    for bad in ("0", "6,6", "6,x"):
+        try:
+            code = main([*argv, "--score-substeps", bad, "--out", str(tmp_path / "b")])
+        except SystemExit as e:  # argparse's own refusal
+            code = e.code
+        assert code == 2
+        assert "--score-substeps" in capsys.readouterr().err
+        assert not (tmp_path / "b").exists()

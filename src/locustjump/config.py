@@ -28,6 +28,7 @@ from typing import Any
 
 from locustjump import model as lm
 from locustjump.behaviours import behaviour_class, behaviour_names
+from locustjump.behaviours.base import CommonOptions
 from locustjump.errors import UserError
 from locustjump.optimizers import RCGAParams, params_class
 
@@ -100,8 +101,8 @@ class TrainConfig:
     def hash(self) -> str:
         """Identity of the experiment: everything but ``generations`` (a run may
         be extended), as 16 hex digits. The RCGA's settings hash under the key
-        ``rcga`` and model fields added after runs were shipped count only when
-        changed, so runs made before keep their hash."""
+        ``rcga`` and model fields and options added after runs were shipped
+        count only when changed, so runs made before keep their hash."""
         d = self.to_dict()
         del d["generations"]
         opt = d.pop("optimizer")
@@ -117,6 +118,11 @@ class TrainConfig:
             del d["model"]["engine"]
         if self.options == type(self.options)():  # runs made before options
             d.pop("options", None)
+        elif "options" in d:  # options added later count only when changed
+            common = _table(CommonOptions())
+            for name, value in common.items():
+                if d["options"][name] == value:
+                    del d["options"][name]
         text = json.dumps(d, sort_keys=True)
         return hashlib.sha256(text.encode()).hexdigest()[:16]
 
@@ -191,6 +197,12 @@ def coerce(value: Any, default: Any, key: str, source: str) -> Any:
         value = float(value) if ok else value
     elif isinstance(default, str):
         ok = isinstance(value, str)
+    elif default == ():  # a list of integers of any length
+        if not isinstance(value, list):
+            raise UserError(
+                f"{source}: {key} must be an array of integers, got {value!r}"
+            )
+        return tuple(coerce(v, 0, f"{key}[{i}]", source) for i, v in enumerate(value))
     elif isinstance(default, tuple):
         if not isinstance(value, list) or len(value) != len(default):
             raise UserError(

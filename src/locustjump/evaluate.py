@@ -58,7 +58,7 @@ def evaluate_run(
         best.genome[None], p, backend=backend, record=beh.eval_record,
         label=f"evaluate {cfg.behaviour}",
     )  # fmt: skip
-    fitness = float(beh.fitness(res, p)[0])
+    fitness = float(beh.score(best.genome[None], res, p, backend=backend)[0])
     metrics = beh.metrics(res, p, best.genome, backend=backend)
     ev = out / rundir.EVAL if eval_dir is None else Path(eval_dir)
     if eval_dir is None:

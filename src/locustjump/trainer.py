@@ -317,6 +317,7 @@ def resolve_config(
     generations: int | None = None,
     engine: str | None = None,
     switch_every: int | None = None,
+    score_substeps: tuple[int, ...] | None = None,
 ) -> TrainConfig:
     """The configuration ``locustjump train`` runs: a resumed run's own
     ``config.toml`` (options may only extend ``generations``), or the defaults,
@@ -340,9 +341,11 @@ def resolve_config(
             "population": cfg.population,
             "engine": cfg.model.engine,
             "switch-every": getattr(cfg.options, "switch_every", None),
+            "score-substeps": cfg.options.score_substeps,
         }
         given = {"optimizer": optimizer, "seed": seed, "population": population,
-                 "engine": engine, "switch-every": switch_every}  # fmt: skip
+                 "engine": engine, "switch-every": switch_every,
+                 "score-substeps": score_substeps}  # fmt: skip
         for key, value in given.items():
             if value not in (None, have[key]):
                 raise UserError(
@@ -376,6 +379,12 @@ def resolve_config(
                 opts = dataclasses.replace(cfg.options, switch_every=switch_every)
             except ValueError as e:
                 raise UserError(f"--switch-every: {e}") from None
+            cfg = cfg.replace(options=opts)
+        if score_substeps is not None:
+            try:
+                opts = dataclasses.replace(cfg.options, score_substeps=score_substeps)
+            except ValueError as e:
+                raise UserError(f"--score-substeps: {e}") from None
             cfg = cfg.replace(options=opts)
         if population is not None:
             try:

@@ -5,6 +5,7 @@ which behaviour it runs."""
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, ClassVar
@@ -92,9 +93,26 @@ def fmt(x: float | None, spec: str = ".2f") -> str:
     return "n/a" if x is None else format(x, spec)
 
 
+#: the finest physics a fitness may also be scored at (substeps a control step)
+MAX_SCORE_SUBSTEPS = 48
+
+
 @dataclass(frozen=True)
-class NoOptions:
-    """The settings of a behaviour that has none."""
+class CommonOptions:
+    """Settings beyond the paper that every behaviour takes (``[options]``)."""
+
+    #: also score every genome with the physics at these substeps a control
+    #: step; its fitness is then the worst over them and the model's own (a
+    #: controller that only works at one resolution of the physics scores low)
+    score_substeps: tuple[int, ...] = ()
+
+    def __post_init__(self) -> None:
+        bad = [s for s in self.score_substeps if not 1 <= s <= MAX_SCORE_SUBSTEPS]
+        if bad or len(set(self.score_substeps)) != len(self.score_substeps):
+            raise ValueError(
+                f"score_substeps must be distinct integers in [1, "
+                f"{MAX_SCORE_SUBSTEPS}], got {list(self.score_substeps)}"
+            )
 
 
 class StepReward:
@@ -166,7 +184,7 @@ class Behaviour:
     headline: ClassVar[tuple[str, ...]] = ("fitness",)
     memory_labels: ClassVar[tuple[str, ...] | None] = None
     gym_id: ClassVar[str | None] = None
-    Options: ClassVar[type] = NoOptions
+    Options: ClassVar[type] = CommonOptions
 
     def __init__(self, frozen: np.ndarray | None = None, options: Any = None):
         """``frozen`` (k, P): genomes of the ``requires`` runs, if any;
@@ -298,4 +316,24 @@ class Behaviour:
     ) -> tuple[np.ndarray, RolloutResult]:
         """Fitness (n,) of genomes (n, P) and the rollout it came from."""
         res = self.simulate(genomes, p, backend=backend)
-        return self.fitness(res, p), res
+        return self.score(genomes, res, p, backend=backend), res
+
+    def score(
+        self,
+        genomes: np.ndarray,
+        res: RolloutResult,
+        p: lm.LocustParams,
+        *,
+        backend: Backend | None = None,
+    ) -> np.ndarray:
+        """Fitness (n,) of ``genomes`` from their rollout ``res`` at ``p``; with
+        the option ``score_substeps``, the minimum of it and of their fitness
+        at each of those resolutions (simulated here; their control steps are
+        added to ``res.control_steps``)."""
+        fit = self.fitness(res, p)
+        for substeps in self.options.score_substeps:
+            q = dataclasses.replace(p, substeps=substeps)
+            other = self.simulate(genomes, q, backend=backend, record=self.record)
+            fit = np.minimum(fit, self.fitness(other, q))
+            res.control_steps += other.control_steps
+        return fit

@@ -27,7 +27,14 @@ import numpy as np
 
 from locustjump import model as lm
 from locustjump.analysis import find_jumps
-from locustjump.behaviours.base import Behaviour, Claim, StepReward, fmt, yes
+from locustjump.behaviours.base import (
+    Behaviour,
+    Claim,
+    CommonOptions,
+    StepReward,
+    fmt,
+    yes,
+)
 from locustjump.behaviours.getup import SUCCESS_UZ, rolled_starts
 from locustjump.controller import MLP, Controller, MLPWeights
 from locustjump.rollout import RolloutResult, StartStates
@@ -49,13 +56,14 @@ PAPER_COMPOSED_RATIO = 2.0
 
 
 @dataclass(frozen=True)
-class SwitchOptions:
+class SwitchOptions(CommonOptions):
     """The composed behaviour's settings beyond the paper (``[options]``)."""
 
     #: control steps between two decisions of the switcher (paper: 120)
     switch_every: int = SWITCH_EVERY
 
     def __post_init__(self) -> None:
+        super().__post_init__()
         if not 1 <= self.switch_every <= 3000:
             raise ValueError(
                 "switch_every must be in [1, 3000] control steps, "

@@ -58,6 +58,7 @@ def cmd_train(args: argparse.Namespace) -> int:
         generations=args.generations,
         engine=args.engine,
         switch_every=args.switch_every,
+        score_substeps=args.score_substeps,
     )
     requires = behaviour_class(args.behaviour).requires
     dirs = {name: getattr(args, frozen_dest(name)) for name in frozen_options()}

@@ -30,6 +30,15 @@ def _int_at_least(name: str, lo: int):
     return parse
 
 
+def _substeps(text: str) -> tuple[int, ...]:
+    try:
+        return tuple(int(t) for t in text.split(","))
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"--score-substeps must be integers separated by commas, got {text!r}"
+        ) from None
+
+
 def _seeds(text: str) -> list[int]:
     from locustjump.multiseed import parse_seeds
 
@@ -39,33 +48,31 @@ def _seeds(text: str) -> list[int]:
         raise argparse.ArgumentTypeError(str(e)) from None
 
 
-def _finite_float(name: str):
+def _finite_float(name: str, *, above: float | None = None, allow_equal: bool = False):
+    """A finite number; with ``above``, also > it (or >= with ``allow_equal``)."""
+
     def parse(text: str) -> float:
         try:
             v = float(text)
         except ValueError:
             raise argparse.ArgumentTypeError(f"{name} must be a number, got {text!r}")
-        if not np.isfinite(v):
-            raise argparse.ArgumentTypeError(f"{name} must be finite, got {text}")
+        low = above is not None and (v < above if allow_equal else v <= above)
+        if not np.isfinite(v) or low:
+            bound = (
+                ""
+                if above is None
+                else f" and {'>=' if allow_equal else '>'} {above:g}"
+            )
+            raise argparse.ArgumentTypeError(
+                f"{name} must be finite{bound}, got {text}"
+            )
         return v
 
     return parse
 
 
 def _positive_float(name: str, *, allow_zero: bool = False):
-    def parse(text: str) -> float:
-        try:
-            v = float(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"{name} must be a number, got {text!r}")
-        if not (v >= 0 if allow_zero else v > 0) or v != v or v == float("inf"):
-            bound = ">= 0" if allow_zero else "> 0"
-            raise argparse.ArgumentTypeError(
-                f"{name} must be finite and {bound}, got {text}"
-            )
-        return v
-
-    return parse
+    return _finite_float(name, above=0.0, allow_equal=allow_zero)
 
 
 def _strut_stiffness_arg(p: argparse.ArgumentParser) -> None:
@@ -216,6 +223,13 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="STEPS",
         help="composed: control steps between two decisions of the switcher "
         "(default 120, the paper's; beyond the paper, recorded in config.toml)",
+    )
+    p.add_argument(
+        "--score-substeps",
+        type=_substeps,
+        metavar="S,S",
+        help="beyond the paper: also score every genome with the physics at these "
+        "substeps a control step; its fitness is the worst of all resolutions",
     )
     p.set_defaults(func=cmd.cmd_train)
 
