@@ -1,14 +1,16 @@
 """Wall time of a training generation vs the physics-only time of its episodes.
 
 A real run (``train``: GA, batched networks, fitness, metrics, atomic
-checkpoint) at the paper's population is trained for ``warmup + generations``
-generations in one call, back to back as a user's run is; each generation's
-wall time is the one its ``metrics.csv`` records. Then, from a copy of the GA
-checkpointed after the warm-up (the GA is deterministic), the benchmark asks
-for the very genomes each measured generation evaluated, records their servo
-targets, and times an open-loop ``mujoco.rollout`` replay of the same episodes
-(same start states, substeps, threads): the physics-only time. Prints medians;
-issue target: ratio <= 1.15.
+checkpoint) at the paper's population is trained for ``warmup`` generations,
+then resumed one generation at a time (the same backend and its cached
+``Batch``); each generation's wall time is the one its ``metrics.csv``
+records. From a copy of the GA checkpointed after the warm-up (the GA is
+deterministic), the benchmark asks for the very genomes each generation
+evaluated, records their servo targets, and right after that generation
+times an open-loop ``mujoco.rollout`` replay of the same episodes (same
+start states, substeps, threads): the physics-only time, measured under the
+same load of the machine as its generation. Prints medians; issue
+target: ratio <= 1.15.
 
     python benchmarks/generation.py [--behaviour kick] [--threads 2]
     python benchmarks/generation.py --behaviour composed --simple-from DIR
@@ -121,6 +123,7 @@ def measure(
     backend = ThreadBackend(threads)
     starts = beh.start_states(p)
     kw = {"frozen": simple} if beh.requires else {}
+    wall, steps, phys = [], [], []
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(tmp) / "run"
         train(cfg.replace(generations=warmup), out, progress=False,
@@ -130,17 +133,23 @@ def measure(
             out / rundir.CHECKPOINT,
             cfg.replace(simple=_digest(simple) if beh.requires else ""),
             beh.controller.num_params)[2])  # fmt: skip
-        train(cfg, out, progress=False, backend=backend, resume=True, **kw)
-        metrics = rundir.read_metrics(out / rundir.METRICS)
-    wall = [float(w) for w in metrics["wall_s"][warmup:]]
-    steps = [int(n) for n in metrics["control_steps"][warmup:]]
-    phys = []
-    for _ in range(generations):
-        genomes = ga.ask()
-        res = beh.simulate(genomes, p, record=(*beh.record, "ctrl"), backend=backend)
-        ga.tell(beh.fitness(res, p))
-        ep_starts = starts.take(np.tile(np.arange(len(starts)), len(genomes)))
-        phys.append(physics_only_seconds(p, ep_starts, res["ctrl"], threads, repeats))
+        for g in range(warmup + 1, warmup + generations + 1):
+            # one generation of the run (resumed: same backend, so the same
+            # cached Batch), then at once the physics-only replay of its very
+            # episodes, so both are timed under the same load of the machine
+            train(cfg.replace(generations=g), out, progress=False,
+                  backend=backend, resume=True, **kw)  # fmt: skip
+            row = rundir.read_metrics(out / rundir.METRICS)
+            wall.append(float(row["wall_s"][-1]))
+            steps.append(int(row["control_steps"][-1]))
+            genomes = ga.ask()
+            rec = (*beh.record, "ctrl")
+            res = beh.simulate(genomes, p, record=rec, backend=backend)
+            ga.tell(beh.fitness(res, p))
+            ep_starts = starts.take(np.tile(np.arange(len(starts)), len(genomes)))
+            phys.append(
+                physics_only_seconds(p, ep_starts, res["ctrl"], threads, repeats)
+            )
     return GenerationTimes(
         behaviour, wall, phys, steps, len(genomes), len(starts), beh.n_steps
     )

@@ -3,8 +3,8 @@
 For each trained stage (kick, getup, return-legs, composed; the monolithic
 baseline is beyond the paper and reported separately) a real run at the
 paper's settings (population 50) is timed for a few generations after a
-warm-up (``generation.measure``: back-to-back generations of ``train``,
-then an open-loop ``mujoco.rollout`` replay of the very same episodes), and the
+warm-up (``generation.measure``: each generation of ``train`` followed at
+once by an open-loop ``mujoco.rollout`` replay of its very episodes), and the
 median generation is extrapolated to the paper's 1000 generations. The
 composed stage switches between the best genomes of a reproduction directory
 (``--simple-from DIR``) or, without one, random simple genomes (seeded).
