@@ -8,7 +8,10 @@ judged on what holds when the simulation converges, not on what only the
 3-substep discretisation gives.
 
     .venv/bin/python scripts/study_substeps.py runs/study/kick-rcga-s* \\
-        runs/study/kick-cma-s* [--by optimizer] [--runs]
+        runs/study/kick-cma-s* [--by optimizer] [--runs] [--reference rcga]
+
+``--reference LABEL`` adds, per other group and resolution, the two-sided
+Mann–Whitney U (of the other group) and its p against that group.
 """
 
 from __future__ import annotations
@@ -21,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from locustjump import rundir
-from locustjump.compare import _key
+from locustjump.compare import _key, mann_whitney
 
 SUBSTEPS = (3, 6, 12, 24)
 
@@ -45,6 +48,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument(
         "--rule", action="store_true", help="also the rule-based jumper's Σz"
     )
+    ap.add_argument("--reference", metavar="LABEL", help="rank tests against it")
     args = ap.parse_args(argv)
     groups: dict[str, list[list[float]]] = {}
     head = " | ".join(f"{n} substeps" for n in SUBSTEPS)
@@ -79,6 +83,21 @@ def main(argv: list[str] | None = None) -> int:
             f"{np.median(c):.4g} [{c.min():.4g}, {c.max():.4g}]" for c in a.T
         )
         print(f"| {label} | {len(rows)} | {cells} |")
+    if args.reference is not None:
+        if args.reference not in groups:
+            print(f"error: --reference {args.reference!r}: no such group",
+                  file=sys.stderr)  # fmt: skip
+            return 2
+        ref = np.array(groups[args.reference])
+        print(f"\nMann–Whitney U, p against {args.reference} (two-sided):\n")
+        print(f"| group | {head} |")
+        print("| --- " * (len(SUBSTEPS) + 1) + "|")
+        for label, rows in groups.items():
+            if label != args.reference:
+                a = np.array(rows)
+                tests = (mann_whitney(a[:, j], ref[:, j]) for j in range(a.shape[1]))
+                cells = " | ".join(f"{u:g}, {pv:.3g}" for u, pv in tests)
+                print(f"| {label} | {cells} |")
     return 0
 
 
