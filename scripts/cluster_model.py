@@ -17,8 +17,12 @@ Model (docs/performance.md, "On a cluster"). A generation is
   W = 2 * (G2 - D - T_steps * s); split over N nodes of c cores, but never
   finer than one episode per core (E episodes).
 
-The defaults are today's measurements (2026-11-22, this 2-core VM, compiled
-engine); pass others to model another machine.
+The defaults are measurements of 2026-11-22 on this 2-core VM with the
+compiled step loop (the controllers called from Python once a control step,
+``--engine numba-loop`` of the benchmarks), before the controllers moved into
+MuJoCo's threads; that path's serial part is 4.8 us a step instead of 62.5
+(docs/performance.md), which only lowers the predictions below. Pass others
+to model another machine.
 
     python scripts/cluster_model.py [--cores 16] [--gbit 10]
 """
