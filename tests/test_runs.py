@@ -324,7 +324,9 @@ def test_score_substeps_takes_the_worst_resolution(tmp_path, capsys):
     capsys.readouterr()
     resume = ["train", "kick", "--resume", "--out", str(robust)]
     assert main([*resume, "--score-substeps", "6"]) == 2
-    assert "--score-substeps (6,) differs" in capsys.readouterr().err
+    assert "--score-substeps 6 differs from the run's score-substeps 6,12" in (
+        capsys.readouterr().err
+    )
     for bad in ("0", "6,6", "6,x"):
         try:
             code = main([*argv, "--score-substeps", bad, "--out", str(tmp_path / "b")])

@@ -348,8 +348,12 @@ def resolve_config(
                  "score-substeps": score_substeps}  # fmt: skip
         for key, value in given.items():
             if value not in (None, have[key]):
+                a, b = (
+                    ",".join(map(str, v)) or "none" if isinstance(v, tuple) else v
+                    for v in (value, have[key])
+                )  # fmt: skip
                 raise UserError(
-                    f"--{key} {value} differs from the run's {key} {have[key]} ({path})"
+                    f"--{key} {a} differs from the run's {key} {b} ({path})"
                 )
     else:
         cfg = TrainConfig(behaviour=behaviour)
