@@ -10,10 +10,12 @@ import pytest
 from locustjump import rundir
 
 STUDY = Path(__file__).resolve().parent.parent / "results" / "study"
-RUNS = sorted(d for d in STUDY.iterdir() if rundir.is_run(d)) if STUDY.is_dir() else []
+RUNS = sorted(
+    d for d in (*STUDY.glob("*"), *STUDY.glob("long/seed-*/*")) if rundir.is_run(d)
+)
 
 
-@pytest.mark.parametrize("run", RUNS, ids=[d.name for d in RUNS])
+@pytest.mark.parametrize("run", RUNS, ids=[str(d.relative_to(STUDY)) for d in RUNS])
 def test_shipped_study_run_replays(run):
     cfg, beh, best = rundir.load_run(run)
     res = beh.simulate(best.genome[None], cfg.model, record=beh.record)
