@@ -19,7 +19,7 @@ RUNS = sorted(
 def test_shipped_study_run_replays(run):
     cfg, beh, best = rundir.load_run(run)
     res = beh.simulate(best.genome[None], cfg.model, record=beh.record)
-    assert beh.fitness(res, cfg.model)[0] == best.fitness
+    assert beh.score(best.genome[None], res, cfg.model)[0] == best.fitness
     m = rundir.read_metrics(run / rundir.METRICS)
     assert len(m["best"]) == cfg.generations
     assert np.max(m["best"]) == best.fitness
