@@ -15,7 +15,6 @@ fitness.
 
 from __future__ import annotations
 
-import dataclasses
 import os
 import time
 from dataclasses import dataclass
@@ -303,99 +302,3 @@ def fitness_figure(out: Path) -> Path:
         path, m, title=f"{cfg.behaviour}: fitness per generation (seed {cfg.seed})"
     )
     return path
-
-
-def resolve_config(
-    behaviour: str,
-    out: str | os.PathLike,
-    *,
-    resume: bool = False,
-    config: str | os.PathLike | None = None,
-    optimizer: str | None = None,
-    seed: int | None = None,
-    population: int | None = None,
-    generations: int | None = None,
-    engine: str | None = None,
-    switch_every: int | None = None,
-    score_substeps: tuple[int, ...] | None = None,
-) -> TrainConfig:
-    """The configuration ``locustjump train`` runs: a resumed run's own
-    ``config.toml`` (options may only extend ``generations``), or the defaults,
-    overridden by a ``config`` file and then by the options given."""
-    from locustjump.optimizers import params_class
-
-    if resume:
-        if config is not None:
-            raise UserError("--resume reads the run's own config.toml; drop --config")
-        path = Path(out) / rundir.CONFIG
-        if not path.is_file():
-            raise UserError(f"--resume: {out} holds no run (no {rundir.CONFIG})")
-        cfg = rundir.load_config(path)
-        if cfg.behaviour != behaviour:
-            raise UserError(
-                f"--resume: {out} holds a {cfg.behaviour!r} run, not {behaviour!r}"
-            )
-        have = {
-            "optimizer": cfg.optimizer.kind,
-            "seed": cfg.seed,
-            "population": cfg.population,
-            "engine": cfg.model.engine,
-            "switch-every": getattr(cfg.options, "switch_every", None),
-            "score-substeps": cfg.options.score_substeps,
-        }
-        given = {"optimizer": optimizer, "seed": seed, "population": population,
-                 "engine": engine, "switch-every": switch_every,
-                 "score-substeps": score_substeps}  # fmt: skip
-        for key, value in given.items():
-            if value not in (None, have[key]):
-                a, b = (
-                    ",".join(map(str, v)) or "none" if isinstance(v, tuple) else v
-                    for v in (value, have[key])
-                )  # fmt: skip
-                raise UserError(
-                    f"--{key} {a} differs from the run's {key} {b} ({path})"
-                )
-    else:
-        cfg = TrainConfig(behaviour=behaviour)
-        if config is not None:
-            cfg = rundir.load_config(config, behaviour=behaviour)
-            if cfg.behaviour != behaviour:
-                raise UserError(
-                    f"{config}: behaviour {cfg.behaviour!r} differs from the "
-                    f"command's {behaviour!r}"
-                )
-        if optimizer is not None and optimizer != cfg.optimizer.kind:
-            try:
-                cfg = cfg.replace(optimizer=params_class(optimizer)())
-            except ValueError as e:
-                raise UserError(f"--optimizer: {e}") from None
-        if seed is not None:
-            cfg = cfg.replace(seed=seed)
-        if engine is not None:
-            cfg = cfg.replace(model=dataclasses.replace(cfg.model, engine=engine))
-        if switch_every is not None:
-            if not hasattr(cfg.options, "switch_every"):
-                raise UserError(
-                    f"--switch-every: only the composed behaviour switches, "
-                    f"not {behaviour!r}"
-                )
-            try:
-                opts = dataclasses.replace(cfg.options, switch_every=switch_every)
-            except ValueError as e:
-                raise UserError(f"--switch-every: {e}") from None
-            cfg = cfg.replace(options=opts)
-        if score_substeps is not None:
-            try:
-                opts = dataclasses.replace(cfg.options, score_substeps=score_substeps)
-            except ValueError as e:
-                raise UserError(f"--score-substeps: {e}") from None
-            cfg = cfg.replace(options=opts)
-        if population is not None:
-            try:
-                opt = cfg.optimizer.replace(population=population)
-            except ValueError as e:
-                raise UserError(f"--population: {e}") from None
-            cfg = cfg.replace(optimizer=opt)
-    if generations is not None:
-        cfg = cfg.replace(generations=generations)
-    return cfg

@@ -45,7 +45,8 @@ def cmd_rules(args: argparse.Namespace) -> int:
 
 def cmd_train(args: argparse.Namespace) -> int:
     from locustjump.behaviours import behaviour_class, behaviour_names
-    from locustjump.trainer import resolve_config, train
+    from locustjump.cli.resolve import resolve_config
+    from locustjump.trainer import train
 
     cfg = resolve_config(
         args.behaviour,
