@@ -75,7 +75,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"| rule-based jumper, Σz from standing | {' | '.join(z)} | |")
     if args.each or args.rule:
         print()
-    print(f"| group | runs | {head} |")
+    print(f"| group: median [min, max] | runs | {head} |")
     print("| --- " * (len(SUBSTEPS) + 2) + "|")
     for label, rows in groups.items():
         a = np.array(rows)

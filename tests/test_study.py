@@ -23,3 +23,25 @@ def test_shipped_study_run_replays(run):
     m = rundir.read_metrics(run / rundir.METRICS)
     assert len(m["best"]) == cfg.generations
     assert np.max(m["best"]) == best.fitness
+
+
+def test_study_substeps_script_rescores_a_run_at_each_resolution(capsys):
+    """scripts/study_substeps.py: its 3-substep column is the run's own
+    fitness, the finer ones re-simulate, and the rank test needs its group."""
+    import importlib.util
+
+    path = STUDY.parent.parent / "scripts" / "study_substeps.py"
+    spec = importlib.util.spec_from_file_location("study_substeps", path)
+    script = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(script)
+    run = STUDY.parent / "quick-seed0" / "getup"
+    _, _, best = rundir.load_run(run)
+    assert script.main([str(run), "--runs", "--by", "behaviour"]) == 0
+    rows = [r for r in capsys.readouterr().out.splitlines() if r.startswith("|")]
+    cells = rows[2].split("|")[2:6]  # the run's row: 3, 6, 12, 24 substeps
+    assert float(cells[0]) == float(f"{best.fitness:.4g}")
+    assert rows[3].startswith("| group: median [min, max] | runs |")
+    one = [f" {c.strip()} [{c.strip()}, {c.strip()}] " for c in cells]
+    assert rows[5].split("|")[3:7] == one  # a group of one: median = min = max
+    assert script.main([str(run), "--reference", "nope"]) == 2
+    assert "--reference 'nope': no such group" in capsys.readouterr().err
