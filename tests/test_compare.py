@@ -48,6 +48,9 @@ def test_groups_table_and_rank_test(runs, tmp_path, capsys):
     assert "holds no run" in capsys.readouterr().err
     assert exit_status(["compare", *map(str, dirs), "--reference", "cma"]) == 2
     assert "no such group" in capsys.readouterr().err
+    # --force overwrites, with the title asked for
+    assert exit_status([*argv, "--force", "--title", "getup: 3 seeds"]) == 0
+    assert fig.read_bytes() != before
 
 
 def test_runs_of_several_behaviours_only_by_behaviour(runs, tmp_path):

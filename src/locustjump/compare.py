@@ -171,7 +171,7 @@ def convergence_figure(groups: Sequence[Group], path: str | os.PathLike,
         ax.fill_between(grid, q1, q3, color=line.get_color(), alpha=0.2)
     ax.set_xlabel("genome evaluations")
     ax.set_ylabel("best fitness so far")
-    ax.set_title(title or "median and interquartile range over runs")
+    ax.set_title(title or "best fitness: median and interquartile range over runs")
     ax.legend()
     fig.tight_layout()
     path = Path(path)

@@ -242,7 +242,7 @@ def cmd_compare(args: argparse.Namespace) -> int:
     groups = load_groups(args.dirs, by=args.by)
     print(table(groups, args.reference))
     if figure is not None:
-        print(f"wrote {convergence_figure(groups, figure)}")
+        print(f"wrote {convergence_figure(groups, figure, title=args.title)}")
     return 0
 
 

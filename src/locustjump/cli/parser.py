@@ -355,6 +355,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--reference", help="the group the others are tested against "
                    "(default: the first)")  # fmt: skip
     p.add_argument("--figure", metavar="FILE", help="write the convergence curves")
+    p.add_argument("--title", default="", help="the figure's title (default: what "
+                   "its lines and bands are)")  # fmt: skip
     p.add_argument("--force", action="store_true", help="overwrite FILE")
     p.set_defaults(func=cmd.cmd_compare)
     return ap
