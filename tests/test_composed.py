@@ -301,6 +301,11 @@ def test_results_table_of_an_unfinished_reproduction(reproduction, tmp_path):
     assert legs.endswith("| not run yet | - |") and "not run yet" not in kick
     assert "![kick](kick/eval/kick_vs_rules.png)" in text
     assert "composed/eval/composed.png" not in text
+    # a failed claim says what the study measured about why, once; an
+    # unfinished one says nothing yet
+    whys = [ln for ln in text.splitlines() if ln.startswith("- ")]
+    assert ("no" in kick.split("|")[-2]) == any("about 2x" in w for w in whys)
+    assert not any("composed jump" in w for w in whys)
 
 
 def test_replay_resimulates_every_stage(reproduction, tmp_path, capsys):

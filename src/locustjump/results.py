@@ -18,6 +18,7 @@ import numpy as np
 
 from locustjump import rundir
 from locustjump.behaviours import behaviour_class
+from locustjump.behaviours.base import Claim
 
 #: frames per second of the per-stage videos (half the 120 Hz control rate)
 VIDEO_FPS = 30.0
@@ -93,10 +94,13 @@ def results_markdown(out: Path) -> str:
         "| claim (paper) | paper | ours | reproduced? (our criterion) |",
         "| --- | --- | --- | --- |",
     ]
+    failed = []
     for s, beh in behaviours.items():
         record = info[s]["record"] if s in info else None
-        lines += [claim.row() for claim in beh.claims(record)]
-    lines.append("")
+        claims = beh.claims(record)
+        lines += [claim.row() for claim in claims]
+        failed += [c for c in claims if c.ok is False]
+    lines += ["", *_whys(failed)]
     for beh in behaviours.values():
         lines += beh.report_section(info)
     lines += _budget_table(marker, rules, info)
@@ -165,6 +169,14 @@ def _budget_table(
     ]
 
 
+def _whys(failed: list[Claim]) -> list[str]:
+    """What a study measured about why these claims fail, once per claim."""
+    whys = dict.fromkeys(f"- {c.text}: {c.why}." for c in failed if c.why)
+    if not whys:
+        return []
+    return ["Why the failing claims fail (measured beyond this run):", "", *whys, ""]
+
+
 def _num(x: float) -> str:
     return f"{x:.0f}" if float(x).is_integer() else f"{x:.2f}"
 
@@ -216,10 +228,12 @@ def seeds_markdown(out: Path) -> str:
         "| claim (paper) | paper | ours: median [min, max] | measure | reproduced in |",
         "| --- | --- | --- | --- | --- |",
     ]
+    failed = []
     for s, beh in behaviours.items():
         runs = [
             beh.claims(info[seed][s]["record"]) for seed in seeds if s in info[seed]
         ]
+        failed += [c for claims in runs for c in claims if c.ok is False]
         for i, claim in enumerate(beh.claims(None)):
             got = [c[i] for c in runs]
             values = [c.value for c in got if c.value is not None]
@@ -231,8 +245,8 @@ def seeds_markdown(out: Path) -> str:
                 f"| {claim.text} | {claim.paper} | {_spread(values)} | {measure} | "
                 f"{count} |"
             )
+    lines += ["", *_whys(failed)]
     lines += [
-        "",
         "## Best fitness per stage",
         "",
         "| stage | seeds done | median [min, max] | per seed |",

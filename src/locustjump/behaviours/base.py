@@ -65,7 +65,9 @@ class Claim:
 
     ``ours`` is ``None`` while the stage has not run yet. ``value`` (what
     ``measure`` names) and ``ok`` are the number and the verdict as data, which
-    the summary across seeds reduces to a median, a range and a count.
+    the summary across seeds reduces to a median, a range and a count. ``why``,
+    printed under the table when the claim fails, says what a study measured
+    about the reason (docs/science.md), not this run.
     """
 
     text: str  # the claim, as the paper makes it (figure in parentheses)
@@ -75,6 +77,7 @@ class Claim:
     value: float | None = None  # the number the verdict is about
     ok: bool | None = None  # reproduced by our criterion
     measure: str = ""  # what ``value`` is, with its unit
+    why: str = ""  # what is known of why it fails, beyond this run (a study)
 
     def row(self) -> str:
         ours = (
