@@ -30,6 +30,6 @@ done
 [ ${#runs[@]} -gt 0 ] || { echo "error: $root holds no $study-* runs" >&2; exit 2; }
 fig=docs/figures/${study//-/_}_optimizers.png
 .venv/bin/locustjump compare "${runs[@]}" --reference rcga --figure "$fig" --force \
-  --title "$what: best so far, median and quartiles over seeds"
+  --title "$what; median and quartiles over seeds"
 echo
 .venv/bin/python scripts/study_substeps.py "${runs[@]}" --reference rcga
