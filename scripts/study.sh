@@ -27,6 +27,9 @@
 #                              each genome scored as its worst of 3 and 6
 #                              (robust6-) or of 3, 6 and 12 substeps (robust-)
 #
+#   scripts/study.sh status    every run under runs/study: generations done
+#                              of its config's, unfinished ones first
+#
 # Then e.g. (docs/science.md has every command):
 #   .venv/bin/locustjump compare runs/study/kick-{rcga,cma,random}-s* --reference rcga
 set -e
@@ -56,6 +59,15 @@ one() {  # one run: BEHAVIOUR NAME SEED ENGINE GENERATIONS
     --threads 1 --quiet --out "$d" $how
 }
 export -f one
+if [ "$1" = status ]; then
+  for d in runs/study/*/ runs/study/long/seed-*/*/; do
+    [ -f "$d/config.toml" ] || continue
+    want=$(sed -n 's/^generations = //p' "$d/config.toml")
+    have=$(($(wc -l < "$d/metrics.csv" 2>/dev/null || echo 1) - 1))
+    printf '%s %s/%s\n' "$([ "$have" = "$want" ] && echo done || echo running)" "$have" "$want ${d%/}"
+  done | sort -k1,1r -k3
+  exit 0
+fi
 gens=1000
 case $1 in
   kick) behaviours=kick names="rcga cma random rcga-sbx rcga-undx"
@@ -67,7 +79,7 @@ case $1 in
   composed) behaviours=composed
             names="p10 apex-p10 apex-sub6-p10 apex-p120 cma-p120 apex-robust6-p10"
             seeds=0 engine=numba gens=300 ;;
-  *) echo "usage: scripts/study.sh kick|ceiling|long|composed" >&2; exit 2 ;;
+  *) echo "usage: scripts/study.sh kick|ceiling|long|composed|status" >&2; exit 2 ;;
 esac
 for s in ${SEEDS:-$seeds}; do
   for b in $behaviours; do
