@@ -8,14 +8,19 @@ import argparse
 import numpy as np
 
 
+def _as(kind, noun: str, name: str, text: str):
+    """``kind(text)``, or the one-line error that ``name`` must be ``noun``."""
+    try:
+        return kind(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"{name} must be {noun}, got {text!r}"
+        ) from None
+
+
 def _int_at_least(name: str, lo: int):
     def parse(text: str) -> int:
-        try:
-            v = int(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(
-                f"{name} must be an integer, got {text!r}"
-            ) from None
+        v = _as(int, "an integer", name, text)
         if v < lo:
             raise argparse.ArgumentTypeError(f"{name} must be >= {lo}, got {v}")
         return v
@@ -45,12 +50,7 @@ def _finite_float(name: str, *, above: float | None = None, allow_equal: bool = 
     """A finite number; with ``above``, also > it (or >= with ``allow_equal``)."""
 
     def parse(text: str) -> float:
-        try:
-            v = float(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(
-                f"{name} must be a number, got {text!r}"
-            ) from None
+        v = _as(float, "a number", name, text)
         low = above is not None and (v < above if allow_equal else v <= above)
         if not np.isfinite(v) or low:
             bound = (

@@ -85,23 +85,25 @@ def resolve_config(
                     f"--switch-every: only the composed behaviour switches, "
                     f"not {behaviour!r}"
                 )
-            try:
-                opts = dataclasses.replace(cfg.options, switch_every=switch_every)
-            except ValueError as e:
-                raise UserError(f"--switch-every: {e}") from None
+            opts = _checked("--switch-every", dataclasses.replace, cfg.options,
+                            switch_every=switch_every)  # fmt: skip
             cfg = cfg.replace(options=opts)
         if score_substeps is not None:
-            try:
-                opts = dataclasses.replace(cfg.options, score_substeps=score_substeps)
-            except ValueError as e:
-                raise UserError(f"--score-substeps: {e}") from None
+            opts = _checked("--score-substeps", dataclasses.replace, cfg.options,
+                            score_substeps=score_substeps)  # fmt: skip
             cfg = cfg.replace(options=opts)
         if population is not None:
-            try:
-                opt = cfg.optimizer.replace(population=population)
-            except ValueError as e:
-                raise UserError(f"--population: {e}") from None
+            opt = _checked("--population", cfg.optimizer.replace, population=population)
             cfg = cfg.replace(optimizer=opt)
     if generations is not None:
         cfg = cfg.replace(generations=generations)
     return cfg
+
+
+def _checked(option: str, make, *args, **changes):
+    """``make(*args, **changes)``, its ``ValueError`` as a one-line error
+    naming ``option``."""
+    try:
+        return make(*args, **changes)
+    except ValueError as e:
+        raise UserError(f"{option}: {e}") from None
