@@ -1,6 +1,6 @@
-"""The study runs shipped in results/study (issue #20, docs/science.md): every
-best genome re-simulates to its recorded fitness, bit for bit, on the engine
-path its config.toml names."""
+"""The runs shipped in results/ — the study's (issue #20, docs/science.md) and
+every stage of the shipped reproductions: every best genome re-simulates to its
+recorded fitness, bit for bit, on the engine path its config.toml names."""
 
 from pathlib import Path
 
@@ -9,14 +9,15 @@ import pytest
 
 from locustjump import rundir
 
-STUDY = Path(__file__).resolve().parent.parent / "results" / "study"
+RESULTS = Path(__file__).resolve().parent.parent / "results"
+STUDY = RESULTS / "study"
 RUNS = sorted(
-    d for d in (*STUDY.glob("*"), *STUDY.glob("long/seed-*/*")) if rundir.is_run(d)
+    d for d in (*RESULTS.glob("*/*"), *STUDY.glob("long/seed-*/*")) if rundir.is_run(d)
 )
 
 
-@pytest.mark.parametrize("run", RUNS, ids=[str(d.relative_to(STUDY)) for d in RUNS])
-def test_shipped_study_run_replays(run):
+@pytest.mark.parametrize("run", RUNS, ids=[str(d.relative_to(RESULTS)) for d in RUNS])
+def test_shipped_run_replays(run):
     cfg, beh, best = rundir.load_run(run)
     res = beh.simulate(best.genome[None], cfg.model, record=beh.record)
     assert beh.score(best.genome[None], res, cfg.model)[0] == best.fitness
@@ -30,11 +31,11 @@ def test_study_substeps_script_rescores_a_run_at_each_resolution(capsys):
     fitness, the finer ones re-simulate, and the rank test needs its group."""
     import importlib.util
 
-    path = STUDY.parent.parent / "scripts" / "study_substeps.py"
+    path = RESULTS.parent / "scripts" / "study_substeps.py"
     spec = importlib.util.spec_from_file_location("study_substeps", path)
     script = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(script)
-    run = STUDY.parent / "quick-seed0" / "getup"
+    run = RESULTS / "quick-seed0" / "getup"
     _, _, best = rundir.load_run(run)
     assert script.main([str(run), "--runs", "--by", "behaviour"]) == 0
     rows = [r for r in capsys.readouterr().out.splitlines() if r.startswith("|")]
