@@ -11,8 +11,8 @@ import mujoco
 import numpy as np
 from mujoco import rollout as mj_rollout
 
-from locustjump import model as lm
-from locustjump.rollout import StartStates
+from locustjump.sim import model as lm
+from locustjump.sim.engine.rollout import StartStates
 
 
 def physics_only_seconds(

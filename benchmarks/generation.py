@@ -32,16 +32,16 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).parent))
 from _physics import physics_only_seconds  # noqa: E402
 from locustjump import rundir  # noqa: E402
-from locustjump.backends import ThreadBackend  # noqa: E402
-from locustjump.behaviours import (  # noqa: E402
+from locustjump.evo import RCGAParams, make_optimizer  # noqa: E402
+from locustjump.rundir.config import TrainConfig  # noqa: E402
+from locustjump.runs.trainer import train  # noqa: E402
+from locustjump.sim.controller import MLP  # noqa: E402
+from locustjump.sim.engine.backends import ThreadBackend  # noqa: E402
+from locustjump.tasks import (  # noqa: E402
     BEHAVIOURS,
     SIMPLE_BEHAVIOURS,
     get_behaviour,
 )
-from locustjump.config import TrainConfig  # noqa: E402
-from locustjump.controller import MLP  # noqa: E402
-from locustjump.optimizers import RCGAParams, make_optimizer  # noqa: E402
-from locustjump.trainer import train  # noqa: E402
 
 TARGET = 1.15
 

@@ -49,7 +49,7 @@ def main() -> None:
     args = ap.parse_args()
     engine = args.engine
     if engine == "numba-loop":
-        from locustjump import incallback
+        from locustjump.sim.engine import incallback
 
         incallback.AVAILABLE = False  # run_batch then runs the step loop
         engine = "numba"

@@ -74,8 +74,8 @@ def mujoco_timers(steps: int = 3000) -> None:
     run (contacts, flights and landings), replayed on one ``MjData``."""
     import mujoco
 
-    from locustjump import model as lm
-    from locustjump.rules import run_rules
+    from locustjump.sim import model as lm
+    from locustjump.tasks.rules import run_rules
 
     p = lm.LocustParams()
     m = lm.load_model(p)

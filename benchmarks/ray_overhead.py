@@ -40,11 +40,11 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).parent))
 from generation import simple_genomes  # noqa: E402
 from locustjump import rundir  # noqa: E402
-from locustjump.backends import ThreadBackend  # noqa: E402
-from locustjump.behaviours import get_behaviour  # noqa: E402
-from locustjump.config import TrainConfig  # noqa: E402
-from locustjump.optimizers import RCGAParams  # noqa: E402
-from locustjump.trainer import train  # noqa: E402
+from locustjump.evo import RCGAParams  # noqa: E402
+from locustjump.rundir.config import TrainConfig  # noqa: E402
+from locustjump.runs.trainer import train  # noqa: E402
+from locustjump.sim.engine.backends import ThreadBackend  # noqa: E402
+from locustjump.tasks import get_behaviour  # noqa: E402
 
 STAGES = ("kick", "getup", "return-legs", "composed")
 TARGET_GEN, TARGET_SEEDS = 1.10, 1.05
@@ -73,7 +73,7 @@ def _train(stage, gens, backend, simple, tmp) -> tuple[list[float], bytes]:
 
 
 def part_generations(args, cpus: int) -> None:
-    from locustjump.ray_backend import RayBackend
+    from locustjump.sim.engine.ray_backend import RayBackend
 
     _ray(cpus)
     simple = simple_genomes(args.simple_from)
@@ -163,7 +163,7 @@ def part_serial(args, cpus: int) -> None:
         p = TrainConfig(stage).model
         g = rng.uniform(-1.0, 1.0, (50, beh.controller.num_params))
         res = beh.simulate(g, p, record=beh.record, backend=ThreadBackend(cpus))
-        from locustjump.rollout import RolloutJob
+        from locustjump.sim.engine.rollout import RolloutJob
 
         starts = beh.start_states(p)
         n = len(starts) * 50
@@ -234,8 +234,8 @@ def part_driver(args, cpus: int) -> None:
 
 
 def part_seeds(args, cpus: int) -> None:
-    from locustjump.multiseed import reproduce_seeds
-    from locustjump.reproduce import reproduce
+    from locustjump.runs.multiseed import reproduce_seeds
+    from locustjump.runs.reproduce import reproduce
 
     _ray(cpus)
     quiet = {"progress": False, "log": lambda s: None, "videos": False}

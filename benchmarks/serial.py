@@ -5,7 +5,7 @@ control step) the engine runs, per control step and on one core whatever the
 thread count: sensors, the networks, the actuation rule, the touch reduction,
 the instability check, the recording and the Python side of the
 ``Batch.rollout`` call. On ``numba`` (the default path: the controllers inside
-MuJoCo's control callback, :mod:`locustjump.incallback`) all of that runs in
+MuJoCo's control callback, :mod:`locustjump.sim.engine.incallback`) all of that runs in
 the batch's C threads, beside the physics, and a rollout is one C call.
 
 This script times whole rollouts of ``--episodes`` episodes (random 9-10-4
@@ -32,11 +32,11 @@ import time
 import numpy as np
 from mujoco.batch import Batch
 
-from locustjump import model as lm
-from locustjump.behaviours import get_behaviour
-from locustjump.compiled import run_compiled
-from locustjump.controller import MLP
-from locustjump.rollout import RolloutJob, run_batch
+from locustjump.sim import model as lm
+from locustjump.sim.controller import MLP
+from locustjump.sim.engine.compiled import run_compiled
+from locustjump.sim.engine.rollout import RolloutJob, run_batch
+from locustjump.tasks import get_behaviour
 
 TARGETS = {50: 20.0, 250: 50.0}
 PATHS = ("numpy", "numba-loop", "numba")

@@ -22,10 +22,10 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).parent))
 from _physics import physics_only_seconds  # noqa: E402
-from locustjump import model as lm  # noqa: E402
-from locustjump.backends import ThreadBackend  # noqa: E402
-from locustjump.controller import MLP  # noqa: E402
-from locustjump.rollout import RolloutJob, StartStates  # noqa: E402
+from locustjump.sim import model as lm  # noqa: E402
+from locustjump.sim.controller import MLP  # noqa: E402
+from locustjump.sim.engine.backends import ThreadBackend  # noqa: E402
+from locustjump.sim.engine.rollout import RolloutJob, StartStates  # noqa: E402
 
 
 def main() -> None:

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from locustjump.optimizers.rcga import CROSSOVERS, RCGA, RCGAParams
+from locustjump.evo.rcga import CROSSOVERS, RCGA, RCGAParams
 
 
 def sphere(x: np.ndarray) -> np.ndarray:

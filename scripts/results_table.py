@@ -12,8 +12,8 @@ import argparse
 import statistics
 
 from locustjump import rundir
-from locustjump.behaviours.getup import sweep_angles, sweep_getup
-from locustjump.evaluate import evaluate_run
+from locustjump.present.evaluate import evaluate_run
+from locustjump.tasks.getup import sweep_angles, sweep_getup
 
 
 def main() -> None:

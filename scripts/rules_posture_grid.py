@@ -21,10 +21,10 @@ import itertools
 
 import numpy as np
 
-from locustjump import analysis, names
-from locustjump import model as lm
-from locustjump.rollout import StartStates, rollout
-from locustjump.rules import RuleController
+from locustjump.sim import analysis, names
+from locustjump.sim import model as lm
+from locustjump.sim.engine.rollout import StartStates, rollout
+from locustjump.tasks.rules import RuleController
 
 HIPS = range(60, 131, 10)
 KNEES = range(100, 161, 15)

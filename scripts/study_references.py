@@ -26,13 +26,17 @@ from pathlib import Path
 
 import numpy as np
 
-from locustjump import model as lm
 from locustjump import rundir
-from locustjump.analysis import find_jumps
-from locustjump.behaviours.composed import START_ROLL, overturns
-from locustjump.behaviours.getup import rolled_starts
-from locustjump.rollout import StartStates, rollout
-from locustjump.rules import DEFAULT_CHANGE_TIME, RuleController, RuleGetupController
+from locustjump.sim import model as lm
+from locustjump.sim.analysis import find_jumps
+from locustjump.sim.engine.rollout import StartStates, rollout
+from locustjump.tasks.composed import START_ROLL, overturns
+from locustjump.tasks.getup import rolled_starts
+from locustjump.tasks.rules import (
+    DEFAULT_CHANGE_TIME,
+    RuleController,
+    RuleGetupController,
+)
 
 STEPS = 3000
 #: (below, low): U_z under which, and I6 above which, the get-up network drives

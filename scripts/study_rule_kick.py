@@ -24,10 +24,11 @@ from pathlib import Path
 
 import numpy as np
 
-from locustjump import analysis, rundir
-from locustjump import model as lm
-from locustjump.rollout import StartStates, rollout
-from locustjump.rules import DEFAULT_CHANGE_TIME, RuleController
+from locustjump import rundir
+from locustjump.sim import analysis
+from locustjump.sim import model as lm
+from locustjump.sim.engine.rollout import StartStates, rollout
+from locustjump.tasks.rules import DEFAULT_CHANGE_TIME, RuleController
 
 RATES = (10, 8, 6, 5, 4, 3, 2)  # deg per control step
 HIPS = range(60, 131, 10)

@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from locustjump import rundir
-from locustjump.compare import _key, mann_whitney
+from locustjump.present.compare import _key, mann_whitney
 
 SUBSTEPS = (3, 6, 12, 24)
 
@@ -65,8 +65,8 @@ def main(argv: list[str] | None = None) -> int:
             cells = " | ".join(f"{x:.4g}" for x in f)
             print(f"| {run.as_posix()} | {cells} | {f[2] / f[0]:.2f} |")
     if args.rule:
-        from locustjump import model as lm
-        from locustjump.rules import run_rules
+        from locustjump.sim import model as lm
+        from locustjump.tasks.rules import run_rules
 
         z = []
         for n in SUBSTEPS:

@@ -25,13 +25,13 @@ from pathlib import Path
 
 import numpy as np
 
-from locustjump import model as lm
 from locustjump import rundir
-from locustjump.analysis import find_jumps
-from locustjump.behaviours.composed import START_ROLL, overturns
-from locustjump.behaviours.getup import rolled_starts
-from locustjump.controller import MLP, MLPWeights
-from locustjump.rollout import StartStates, rollout
+from locustjump.sim import model as lm
+from locustjump.sim.analysis import find_jumps
+from locustjump.sim.controller import MLP, MLPWeights
+from locustjump.sim.engine.rollout import StartStates, rollout
+from locustjump.tasks.composed import START_ROLL, overturns
+from locustjump.tasks.getup import rolled_starts
 
 STEPS = 3000
 KICK, GETUP, RETURN = 0, 1, 2

@@ -12,10 +12,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from locustjump import analysis
-from locustjump import model as lm
-from locustjump.rollout import StartStates, rollout
-from locustjump.rules import RuleController
+from locustjump.sim import analysis
+from locustjump.sim import model as lm
+from locustjump.sim.engine.rollout import StartStates, rollout
+from locustjump.tasks.rules import RuleController
 
 
 def main() -> None:

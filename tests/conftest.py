@@ -9,7 +9,7 @@ import mujoco
 import numpy as np
 import pytest
 
-from locustjump import model as lm
+from locustjump.sim import model as lm
 
 
 @pytest.fixture(scope="session")

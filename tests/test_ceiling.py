@@ -3,14 +3,14 @@
 import numpy as np
 import pytest
 
-from locustjump.behaviours import behaviour_names, get_behaviour
-from locustjump.behaviours.ceiling import OpenLoop, apex_rise
-from locustjump.config import TrainConfig
-from locustjump.controller import MLP
-from locustjump.optimizers.rcga import RCGAParams
+from locustjump.evo.rcga import RCGAParams
 from locustjump.rundir import load_run
-from locustjump.sensors import MAX_DELTA
-from locustjump.trainer import train
+from locustjump.rundir.config import TrainConfig
+from locustjump.runs.trainer import train
+from locustjump.sim.controller import MLP
+from locustjump.sim.sensors import MAX_DELTA
+from locustjump.tasks import behaviour_names, get_behaviour
+from locustjump.tasks.ceiling import OpenLoop, apex_rise
 
 
 def test_open_loop_holds_each_block_then_stops():

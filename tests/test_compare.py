@@ -7,10 +7,10 @@ import pytest
 
 from helpers import exit_status
 from locustjump import rundir
-from locustjump.compare import load_groups, mann_whitney, table
-from locustjump.config import TrainConfig
-from locustjump.optimizers import params_class
-from locustjump.trainer import train
+from locustjump.evo import params_class
+from locustjump.present.compare import load_groups, mann_whitney, table
+from locustjump.rundir.config import TrainConfig
+from locustjump.runs.trainer import train
 
 
 @pytest.fixture(scope="module")
@@ -67,7 +67,7 @@ def test_runs_of_several_behaviours_only_by_behaviour(runs, tmp_path):
 
 
 def test_optimizer_labels_name_the_settings_that_differ():
-    from locustjump.compare import optimizer_label
+    from locustjump.present.compare import optimizer_label
 
     rcga = params_class("rcga")
     assert optimizer_label(rcga(population=10)) == "rcga"

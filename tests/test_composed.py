@@ -8,23 +8,23 @@ import numpy as np
 import pytest
 
 from locustjump import rundir
-from locustjump.backends import ThreadBackend
-from locustjump.behaviours import SIMPLE_BEHAVIOURS, get_behaviour
-from locustjump.behaviours.composed import (
+from locustjump.cli import main
+from locustjump.errors import UserError
+from locustjump.evo.rcga import RCGAParams
+from locustjump.present.evaluate import evaluate_run
+from locustjump.rundir import MARKER, RESULTS
+from locustjump.rundir.config import TrainConfig
+from locustjump.runs.reproduce import PAPER_STAGES, Budget, replay, reproduce
+from locustjump.runs.trainer import train
+from locustjump.sim.controller import MLP
+from locustjump.sim.engine.backends import ThreadBackend
+from locustjump.tasks import SIMPLE_BEHAVIOURS, get_behaviour
+from locustjump.tasks.composed import (
     SIMPLE,
     SWITCH_EVERY,
     SwitchingController,
     overturns,
 )
-from locustjump.cli import main
-from locustjump.config import TrainConfig
-from locustjump.controller import MLP
-from locustjump.errors import UserError
-from locustjump.evaluate import evaluate_run
-from locustjump.optimizers.rcga import RCGAParams
-from locustjump.reproduce import PAPER_STAGES, Budget, replay, reproduce
-from locustjump.rundir import MARKER, RESULTS
-from locustjump.trainer import train
 
 NET, SWITCH = MLP(), MLP(n_out=3, output="sigmoid")
 
@@ -288,7 +288,7 @@ def test_reproduce_without_monolithic_then_adds_it(tmp_path):
 
 
 def test_results_table_of_an_unfinished_reproduction(reproduction, tmp_path):
-    from locustjump.results import results_markdown
+    from locustjump.present.results import results_markdown
 
     d = shutil.copytree(reproduction, tmp_path / "r")
     for stage in ("return-legs", "composed", "monolithic"):
@@ -320,7 +320,7 @@ def test_replay_resimulates_every_stage(reproduction, tmp_path, capsys):
 
 def test_reproduce_renders_a_video_per_stage(reproduction, tmp_path):
     pytest.importorskip("imageio", reason="extra locustjump[video] not installed")
-    from locustjump.reproduce import STAGES, render_videos
+    from locustjump.runs.reproduce import STAGES, render_videos
 
     logs: list[str] = []
     d = shutil.copytree(reproduction, tmp_path / "r")
@@ -345,7 +345,7 @@ def test_reproduce_cli_bad_input(tmp_path, capsys):
 
 
 def test_sign_test_over_seeds():
-    from locustjump.behaviours.monolithic import sign_test
+    from locustjump.tasks.monolithic import sign_test
 
     assert sign_test(0, 5) == sign_test(5, 5) == 2 / 32
     assert sign_test(1, 5) == 2 * 6 / 32

@@ -8,14 +8,15 @@ import dataclasses
 import numpy as np
 import pytest
 
-from locustjump import kernels, sensors
-from locustjump.backends import ThreadBackend
-from locustjump.behaviours import get_behaviour
-from locustjump.behaviours.composed import SwitchingController
-from locustjump.config import TrainConfig
-from locustjump.controller import MLP
-from locustjump.rollout import RolloutJob, StartStates, observer
-from locustjump.rules import RuleController
+from locustjump.rundir.config import TrainConfig
+from locustjump.sim import sensors
+from locustjump.sim.controller import MLP
+from locustjump.sim.engine import kernels
+from locustjump.sim.engine.backends import ThreadBackend
+from locustjump.sim.engine.rollout import RolloutJob, StartStates, observer
+from locustjump.tasks import get_behaviour
+from locustjump.tasks.composed import SwitchingController
+from locustjump.tasks.rules import RuleController
 
 #: per control step, |compiled - NumPy| of a network's output (rad): the sums
 #: run in another order and tanh is Cephes', not NumPy's: 8 ulp of 0.17 rad
@@ -53,7 +54,7 @@ def states(params):
 
 
 def test_observation_and_actuation_are_bit_identical(states, mjmodel, params):
-    from locustjump import model as lm
+    from locustjump.sim import model as lm
 
     flat, _, _ = states
     qpos = flat["qpos"]

@@ -9,13 +9,13 @@ gym = pytest.importorskip("gymnasium", reason="extra locustjump[gym] not install
 from gymnasium.utils.env_checker import check_env  # noqa: E402
 
 from locustjump import rundir  # noqa: E402
-from locustjump.controller import MLP  # noqa: E402
 from locustjump.envs import TASKS, LocustEnv  # noqa: E402
+from locustjump.sim.controller import MLP  # noqa: E402
 
 
 def _can_render() -> bool:
-    from locustjump import model as lm
-    from locustjump.render import RenderUnavailable, make_renderer
+    from locustjump.present.render import RenderUnavailable, make_renderer
+    from locustjump.sim import model as lm
 
     try:
         make_renderer(lm.load_model(lm.LocustParams()), 32, 24).close()

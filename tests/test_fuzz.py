@@ -59,7 +59,9 @@ def _sandbox():
     with tempfile.TemporaryDirectory() as d:
         os.chdir(d)
         try:
-            with mock.patch("locustjump.backends.ThreadBackend.run", _simulate):
+            with mock.patch(
+                "locustjump.sim.engine.backends.ThreadBackend.run", _simulate
+            ):
                 yield Path(d)
         finally:
             os.chdir(here)
@@ -127,7 +129,7 @@ TABLES = st.recursive(
 
 def _perturbed(section_key_value) -> bytes:
     """A valid config with one key set to a random value."""
-    from locustjump.config import TrainConfig
+    from locustjump.rundir.config import TrainConfig
 
     section, key, value = section_key_value
     d = TrainConfig().to_dict()

@@ -70,7 +70,9 @@ def test_interrupted_reproduce_says_how_to_continue(tmp_path, capsys, monkeypatc
     def interrupted(*args, **kwargs):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(sys.modules["locustjump.reproduce"], "reproduce", interrupted)
+    monkeypatch.setattr(
+        sys.modules["locustjump.runs.reproduce"], "reproduce", interrupted
+    )
     assert main(["reproduce", "--out", str(tmp_path / "r")]) == 130
     assert "rerun the same command" in capsys.readouterr().err
 
@@ -176,7 +178,7 @@ def test_a_full_disk_loses_nothing_and_resume_is_bit_identical(
     capsys.readouterr()
     # 4 generations, then the disk fills up
     cfg = rundir.load_config(ref / rundir.CONFIG).replace(generations=12)
-    from locustjump.trainer import train
+    from locustjump.runs.trainer import train
 
     train(cfg, small_disk / "run", progress=False, stop_after=4)
     checkpoint = (small_disk / "run" / rundir.CHECKPOINT).read_bytes()

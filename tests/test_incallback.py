@@ -1,6 +1,6 @@
 """The compiled path with the controllers inside MuJoCo's control callback
-(:mod:`locustjump.incallback`) against its step-by-step loop
-(:func:`locustjump.compiled.run_compiled`): the same kernels on one episode's
+(:mod:`locustjump.sim.engine.incallback`) against its step-by-step loop
+(:func:`locustjump.sim.engine.compiled.run_compiled`): the same kernels on one episode's
 slices, so every record, failure step and step count agrees bit for bit."""
 
 import ctypes
@@ -11,14 +11,14 @@ import numpy as np
 import pytest
 from mujoco.batch import Batch
 
-from locustjump import incallback
-from locustjump import model as lm
-from locustjump.behaviours import get_behaviour
-from locustjump.behaviours.composed import SwitchingController
-from locustjump.compiled import run_compiled
-from locustjump.controller import MLP
-from locustjump.incallback import run_incallback
-from locustjump.rollout import RECORDABLE, RolloutJob, StartStates
+from locustjump.sim import model as lm
+from locustjump.sim.controller import MLP
+from locustjump.sim.engine import incallback
+from locustjump.sim.engine.compiled import run_compiled
+from locustjump.sim.engine.incallback import run_incallback
+from locustjump.sim.engine.rollout import RECORDABLE, RolloutJob, StartStates
+from locustjump.tasks import get_behaviour
+from locustjump.tasks.composed import SwitchingController
 
 needs_layout = pytest.mark.skipif(
     not incallback.AVAILABLE, reason="this MuJoCo's mjData layout is not known"
@@ -35,7 +35,7 @@ def test_the_kernels_digest_is_current():
 
 
 def test_the_field_offsets_are_those_of_this_mujoco():
-    from locustjump import mjlayout
+    from locustjump.sim.engine import mjlayout
 
     assert mjlayout.offsets(incallback.NUSERDATA) is not None
 

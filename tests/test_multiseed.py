@@ -12,8 +12,8 @@ import pytest
 
 from helpers import assert_same_run, exit_status
 from locustjump import rundir
-from locustjump.multiseed import parse_seeds, reproduce_seeds
-from locustjump.reproduce import TRAINED, Budget, reproduce
+from locustjump.runs.multiseed import parse_seeds, reproduce_seeds
+from locustjump.runs.reproduce import TRAINED, Budget, reproduce
 
 TINY = Budget("tiny", 4, {"kick": 1, "getup": 1, "return-legs": 1, "composed": 1})
 QUIET = {"progress": False, "log": lambda s: None, "videos": False}
@@ -154,8 +154,8 @@ def test_a_killed_reproduction_continues_where_it_stopped(singles, tmp_path, loc
     the same reproduction continued on Ray: identical to the single seeds."""
     out = tmp_path / "seeds"
     code = (
-        "from locustjump.reproduce import Budget\n"
-        "from locustjump.multiseed import reproduce_seeds\n"
+        "from locustjump.runs.reproduce import Budget\n"
+        "from locustjump.runs.multiseed import reproduce_seeds\n"
         f"b = Budget('tiny', 4, {dict(TINY.generations)!r})\n"
         f"reproduce_seeds({str(out)!r}, [0, 1], budget=b, backend='threads', "
         "threads=1, progress=False, videos=False, log=lambda s: None)\n"

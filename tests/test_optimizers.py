@@ -8,9 +8,8 @@ import pytest
 
 from locustjump import rundir
 from locustjump.cli import main
-from locustjump.config import TrainConfig
-from locustjump.optimizers import _REGISTRY as OPTIMIZERS
-from locustjump.optimizers import (
+from locustjump.evo import _REGISTRY as OPTIMIZERS
+from locustjump.evo import (
     CMAES,
     RCGA,
     CMAParams,
@@ -22,7 +21,8 @@ from locustjump.optimizers import (
     optimizer_kinds,
     register,
 )
-from locustjump.trainer import train
+from locustjump.rundir.config import TrainConfig
+from locustjump.runs.trainer import train
 
 KINDS = {"rcga": RCGAParams, "cma": CMAParams, "random": RandomSearchParams}
 

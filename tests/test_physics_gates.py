@@ -5,10 +5,10 @@ import math
 import mujoco
 import numpy as np
 
-from locustjump import model as lm
-from locustjump.controller import MLP
-from locustjump.rules import RuleController
-from locustjump.sensors import MAX_DELTA, apply_deltas
+from locustjump.sim import model as lm
+from locustjump.sim.controller import MLP
+from locustjump.sim.sensors import MAX_DELTA, apply_deltas
+from locustjump.tasks.rules import RuleController
 
 
 def _volume(m: mujoco.MjModel, g: int) -> float:
@@ -105,7 +105,7 @@ def test_gate4_convergence_fixed_controller_3000_steps(params):
     not (a chaotic event: 11 jumps at 3 substeps, 10 at 12), so the gate compares
     the first three jumps: apex height and distance at the apex.
     """
-    from locustjump.rules import run_rules
+    from locustjump.tasks.rules import run_rules
 
     coarse = run_rules(steps=3000, model_params=params)
     fine = run_rules(
@@ -125,7 +125,7 @@ def test_gate5_stress_random_controllers(params, mjmodel):
     rng = np.random.default_rng(0)
     genomes = net.random_genomes(rng, 100, scale=2.0)
     pen, overturned = 0.0, 0
-    from locustjump.sensors import paper_inputs
+    from locustjump.sim.sensors import paper_inputs
 
     for g in genomes:
         mujoco.mj_resetDataKeyframe(m, d, idx.ready_key)
@@ -158,7 +158,7 @@ def test_gate5_stress_random_controllers(params, mjmodel):
 
 def test_gate5_stress_rule_based_controllers(params):
     """Every change time from 0 to 1 s, 10 s each, through the engine."""
-    from locustjump.rollout import StartStates, rollout
+    from locustjump.sim.engine.rollout import StartStates, rollout
 
     rc = RuleController.for_model(params)
     res = rollout(

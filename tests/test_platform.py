@@ -7,16 +7,17 @@ from typing import Any
 import numpy as np
 import pytest
 
-from locustjump import behaviours, rundir
-from locustjump.behaviours import Behaviour, register_behaviour
-from locustjump.behaviours.kick import ready_start
-from locustjump.config import TrainConfig
-from locustjump.controller import MLP
-from locustjump.evaluate import evaluate_run
-from locustjump.model import LocustParams
-from locustjump.optimizers import RCGAParams
-from locustjump.render import playback_of
-from locustjump.trainer import train
+from locustjump import rundir
+from locustjump import tasks as behaviours
+from locustjump.evo import RCGAParams
+from locustjump.present.evaluate import evaluate_run
+from locustjump.present.render import playback_of
+from locustjump.rundir.config import TrainConfig
+from locustjump.runs.trainer import train
+from locustjump.sim.controller import MLP
+from locustjump.sim.model import LocustParams
+from locustjump.tasks import Behaviour, register_behaviour
+from locustjump.tasks.kick import ready_start
 
 
 class StandTall(Behaviour):

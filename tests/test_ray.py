@@ -14,13 +14,13 @@ ray = pytest.importorskip("ray", reason="Ray is not installed (extra locustjump[
 
 from helpers import assert_same_run  # noqa: E402
 from locustjump import rundir  # noqa: E402
-from locustjump.backends import ThreadBackend, make_backend  # noqa: E402
 from locustjump.cli import main  # noqa: E402
-from locustjump.config import TrainConfig  # noqa: E402
-from locustjump.controller import MLP  # noqa: E402
-from locustjump.optimizers import RCGAParams  # noqa: E402
-from locustjump.rollout import RolloutJob, StartStates  # noqa: E402
-from locustjump.trainer import train  # noqa: E402
+from locustjump.evo import RCGAParams  # noqa: E402
+from locustjump.rundir.config import TrainConfig  # noqa: E402
+from locustjump.runs.trainer import train  # noqa: E402
+from locustjump.sim.controller import MLP  # noqa: E402
+from locustjump.sim.engine.backends import ThreadBackend, make_backend  # noqa: E402
+from locustjump.sim.engine.rollout import RolloutJob, StartStates  # noqa: E402
 
 SMALL = TrainConfig(generations=3, optimizer=RCGAParams(population=6), seed=5)
 
@@ -47,7 +47,7 @@ def test_ray_is_bit_identical_to_threads(local_ray, reference, tmp_path, actors)
 
 
 def _job(params, n_steps: int) -> RolloutJob:
-    from locustjump.model import LocustParams, load_model
+    from locustjump.sim.model import LocustParams, load_model
 
     p = LocustParams()
     starts = StartStates.ready(load_model(p))

@@ -8,7 +8,7 @@ the worst seed plus 25 % (Rastrigin) of slack.
 import numpy as np
 import pytest
 
-from locustjump.optimizers.rcga import (
+from locustjump.evo.rcga import (
     CROSSOVERS,
     RCGA,
     RCGAParams,

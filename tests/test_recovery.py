@@ -6,16 +6,16 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from locustjump.behaviours import get_behaviour
-from locustjump.behaviours.base import settle
-from locustjump.behaviours.getup import TRAIN_ROLLS, rolled_starts, sweep_angles
-from locustjump.behaviours.return_legs import extended_start
 from locustjump.cli import main
-from locustjump.config import TrainConfig
-from locustjump.optimizers.rcga import RCGAParams
-from locustjump.rollout import RolloutResult
-from locustjump.sensors import up_axis_in_body
-from locustjump.trainer import train
+from locustjump.evo.rcga import RCGAParams
+from locustjump.rundir.config import TrainConfig
+from locustjump.runs.trainer import train
+from locustjump.sim.engine.rollout import RolloutResult
+from locustjump.sim.sensors import up_axis_in_body
+from locustjump.tasks import get_behaviour
+from locustjump.tasks.base import settle
+from locustjump.tasks.getup import TRAIN_ROLLS, rolled_starts, sweep_angles
+from locustjump.tasks.return_legs import extended_start
 
 
 def test_settle_is_deterministic(params):
@@ -40,7 +40,7 @@ def test_rolled_starts_lie_on_the_ground_overturned(params):
 
 def test_extended_start_stands_with_legs_extended(params):
     s = extended_start(params)
-    from locustjump import model as lm
+    from locustjump.sim import model as lm
 
     idx = lm.ModelIndex.of(lm.load_model(params))
     err = np.degrees(np.abs(s.qpos[0, idx.qpos_joints] - params.kick_angles()))

@@ -8,8 +8,9 @@ import numpy as np
 import pytest
 
 from helpers import exit_status
-from locustjump import names, render
 from locustjump.cli import main
+from locustjump.present import render
+from locustjump.sim import names
 
 iio = pytest.importorskip("imageio.v2", reason="extra locustjump[video] not installed")
 
@@ -23,7 +24,7 @@ def _frames(path):
 
 @pytest.fixture(scope="module")
 def can_render():
-    from locustjump import model as lm
+    from locustjump.sim import model as lm
 
     try:
         render.make_renderer(lm.load_model(lm.LocustParams()), 32, 24).close()
@@ -134,7 +135,10 @@ def test_view_plays_under_a_virtual_display(rules_dir):
     xvfb = shutil.which("xvfb-run")
     if xvfb is None:
         pytest.skip("xvfb-run not installed (Debian package xvfb)")
-    code = f"from locustjump.render import view; view({str(rules_dir)!r}, duration=3)"
+    code = (
+        "from locustjump.present.render import view; "
+        f"view({str(rules_dir)!r}, duration=3)"
+    )
     r = subprocess.run(
         [xvfb, "-a", "-s", "-screen 0 800x600x24", sys.executable, "-c", code],
         capture_output=True, text=True, timeout=120,

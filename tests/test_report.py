@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from locustjump.cli import main
-from locustjump.report import markdown_to_html, write_report
+from locustjump.present.report import markdown_to_html, write_report
 
 
 def _chromium() -> str:

@@ -5,17 +5,17 @@ import dataclasses
 import numpy as np
 import pytest
 
-from locustjump.backends import ThreadBackend
-from locustjump.controller import MLP
-from locustjump.episode import reference_rollout
-from locustjump.params import ENGINES
-from locustjump.rollout import (
+from locustjump.sim.controller import MLP
+from locustjump.sim.engine.backends import ThreadBackend
+from locustjump.sim.engine.episode import reference_rollout
+from locustjump.sim.engine.rollout import (
     RolloutJob,
     RolloutResult,
     StartStates,
     rollout,
 )
-from locustjump.rules import RuleController
+from locustjump.sim.params import ENGINES
+from locustjump.tasks.rules import RuleController
 
 RECORD = ("qpos", "obs", "ctrl", "memory")
 

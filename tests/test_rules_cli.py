@@ -5,14 +5,15 @@ import mujoco
 import numpy as np
 import pytest
 
-from locustjump import cli, names
-from locustjump import model as lm
-from locustjump.behaviours.composed import START_ROLL
-from locustjump.behaviours.getup import rolled_starts
-from locustjump.controller import MLP
-from locustjump.rollout import StartStates, rollout
-from locustjump.rules import RuleController, RuleGetupController, run_rules
+from locustjump import cli
 from locustjump.rundir import TRAJECTORY_COLUMNS
+from locustjump.sim import model as lm
+from locustjump.sim import names
+from locustjump.sim.controller import MLP
+from locustjump.sim.engine.rollout import StartStates, rollout
+from locustjump.tasks.composed import START_ROLL
+from locustjump.tasks.getup import rolled_starts
+from locustjump.tasks.rules import RuleController, RuleGetupController, run_rules
 
 
 def test_rule_based_jumps_at_least_three_times(params):
@@ -121,7 +122,7 @@ def test_cli_refuses_non_empty_out_dir(tmp_path, capsys):
 
 
 def test_find_jumps_splits_at_a_bounce(params):
-    from locustjump.analysis import find_jumps
+    from locustjump.sim.analysis import find_jumps
 
     stand = lm.standing_height(params)
     t = np.linspace(0, 1, 201)
@@ -161,7 +162,7 @@ def test_sprung_struts_are_an_option_and_leave_the_default_alone(tmp_path, capsy
     summary = json.loads((out / "summary.json").read_text())
     assert summary["model"]["strut_stiffness"] == 1e-05
     # a video of it re-simulates the same creature, sprung struts included
-    from locustjump.render import source_of
+    from locustjump.present.render import source_of
 
     assert source_of(out).model_params == p
     with pytest.raises(ValueError, match="strut_stiffness"):

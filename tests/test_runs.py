@@ -15,16 +15,16 @@ import pytest
 
 from helpers import assert_same_run, wait_for_rows
 from locustjump import rundir
-from locustjump.backends import ThreadBackend
-from locustjump.behaviours import get_behaviour
-from locustjump.behaviours.kick import kick_fitness
 from locustjump.cli import main
-from locustjump.config import TrainConfig
 from locustjump.errors import UserError
-from locustjump.evaluate import evaluate_run
-from locustjump.optimizers import params_class
-from locustjump.optimizers.rcga import RCGAParams
-from locustjump.trainer import train
+from locustjump.evo import params_class
+from locustjump.evo.rcga import RCGAParams
+from locustjump.present.evaluate import evaluate_run
+from locustjump.rundir.config import TrainConfig
+from locustjump.runs.trainer import train
+from locustjump.sim.engine.backends import ThreadBackend
+from locustjump.tasks import get_behaviour
+from locustjump.tasks.kick import kick_fitness
 
 SMALL = TrainConfig(generations=4, optimizer=RCGAParams(population=6), seed=5)
 
@@ -123,11 +123,11 @@ def test_kick_fitness_is_the_rectangle():
 
 
 def test_kick_fitness_of_the_rule_based_kick_is_positive(params):
-    from locustjump.rules import RuleController
+    from locustjump.tasks.rules import RuleController
 
     beh = get_behaviour("kick")
     rc = RuleController.for_model(params)
-    from locustjump.rollout import rollout
+    from locustjump.sim.engine.rollout import rollout
 
     res = rollout(rc, rc.params_for(0.125), beh.start_states(params), beh.n_steps)
     assert kick_fitness(res["qpos"])[0] > 0.1

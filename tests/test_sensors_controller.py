@@ -1,10 +1,10 @@
 import mujoco
 import numpy as np
 
-from locustjump import model as lm
-from locustjump import sensors
-from locustjump.controller import MLP
-from locustjump.rollout import observer
+from locustjump.sim import model as lm
+from locustjump.sim import sensors
+from locustjump.sim.controller import MLP
+from locustjump.sim.engine.rollout import observer
 
 
 def test_up_axis_is_third_row_of_rotation(rng):

@@ -22,19 +22,7 @@ if (
     if _ctypes_util.find_library("EGL"):
         _os.environ["MUJOCO_GL"] = "egl"
 
-from locustjump.backends import ThreadBackend, make_backend
-from locustjump.behaviours import (
-    BEHAVIOURS,
-    Behaviour,
-    get_behaviour,
-    register_behaviour,
-)
-from locustjump.config import TrainConfig
-from locustjump.controller import MLP, Controller
-from locustjump.episode import reference_rollout
-from locustjump.evaluate import evaluate_run
-from locustjump.model import CONTROL_DT, LocustParams, load_model, to_mjcf
-from locustjump.optimizers import (
+from locustjump.evo import (
     CMAES,
     RCGA,
     CMAParams,
@@ -44,10 +32,27 @@ from locustjump.optimizers import (
     make_optimizer,
     register,
 )
-from locustjump.rollout import RolloutJob, RolloutResult, StartStates, rollout
-from locustjump.rules import RuleController, run_rules
+from locustjump.present.evaluate import evaluate_run
 from locustjump.rundir import load_run
-from locustjump.trainer import train
+from locustjump.rundir.config import TrainConfig
+from locustjump.runs.trainer import train
+from locustjump.sim.controller import MLP, Controller
+from locustjump.sim.engine.backends import ThreadBackend, make_backend
+from locustjump.sim.engine.episode import reference_rollout
+from locustjump.sim.engine.rollout import (
+    RolloutJob,
+    RolloutResult,
+    StartStates,
+    rollout,
+)
+from locustjump.sim.model import CONTROL_DT, LocustParams, load_model, to_mjcf
+from locustjump.tasks import (
+    BEHAVIOURS,
+    Behaviour,
+    get_behaviour,
+    register_behaviour,
+)
+from locustjump.tasks.rules import RuleController, run_rules
 
 __version__ = "0.1.0"
 

@@ -21,8 +21,8 @@ id                          task (paper)        steps   start states
 ==========================  ==================  ======  =====================
 
 Each environment is one episode of the training engine
-(:mod:`locustjump.rollout`), stepped on one ``MjData`` with the same
-operations in the same order (:class:`~locustjump.episode.Episode`), so a
+(:mod:`locustjump.sim.engine.rollout`), stepped on one ``MjData`` with the same
+operations in the same order (:class:`~locustjump.sim.engine.episode.Episode`), so a
 genome run through it gets the engine's fitness (``tests/test_envs.py``).
 """
 
@@ -34,12 +34,12 @@ import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
-from locustjump import model as lm
-from locustjump import names
-from locustjump.behaviours import Behaviour, behaviour_class, behaviour_names
-from locustjump.episode import Episode
-from locustjump.model import CONTROL_DT
-from locustjump.sensors import MAX_DELTA, N_ACTUATORS, N_INPUTS
+from locustjump.sim import model as lm
+from locustjump.sim import names
+from locustjump.sim.engine.episode import Episode
+from locustjump.sim.model import CONTROL_DT
+from locustjump.sim.sensors import MAX_DELTA, N_ACTUATORS, N_INPUTS
+from locustjump.tasks import Behaviour, behaviour_class, behaviour_names
 
 
 def tasks() -> dict[str, str]:
@@ -64,7 +64,7 @@ class LocustEnv(gym.Env):
     """The locust on the floor, one task of the paper.
 
     **Observation** ``Box(9,)`` float64, the paper's inputs
-    (:mod:`locustjump.sensors`):
+    (:mod:`locustjump.sim.sensors`):
 
     =====  ====================================  ===========  ======
     index  meaning                               range        unit
@@ -202,7 +202,7 @@ class LocustEnv(gym.Env):
         if self.render_mode != "rgb_array":
             return None
         if self._renderer is None:
-            from locustjump.render import make_renderer
+            from locustjump.present.render import make_renderer
 
             self._renderer = make_renderer(self._episode.model, *self._size)
         self._renderer.update_scene(self._episode.data, camera=self._camera)

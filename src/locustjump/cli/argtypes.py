@@ -38,7 +38,7 @@ def _substeps(text: str) -> tuple[int, ...]:
 
 
 def _seeds(text: str) -> list[int]:
-    from locustjump.multiseed import parse_seeds
+    from locustjump.runs.multiseed import parse_seeds
 
     try:
         return parse_seeds(text)

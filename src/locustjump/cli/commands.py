@@ -6,13 +6,13 @@ import argparse
 import json
 import sys
 
-from locustjump import model as lm
 from locustjump import rundir
 from locustjump.errors import UserError
+from locustjump.sim import model as lm
 
 
 def _backend(args: argparse.Namespace):
-    from locustjump.backends import make_backend
+    from locustjump.sim.engine.backends import make_backend
 
     return make_backend(
         args.backend, threads=args.threads, address=args.address, actors=args.actors
@@ -28,7 +28,7 @@ def cmd_model(args: argparse.Namespace) -> int:
 
 
 def cmd_rules(args: argparse.Namespace) -> int:
-    from locustjump.rules import write_rules_run
+    from locustjump.tasks.rules import write_rules_run
 
     out = rundir.check_out_dir(args.out, force=args.force)  # made once it ran
     p = lm.LocustParams(strut_stiffness=args.strut_stiffness)
@@ -44,9 +44,9 @@ def cmd_rules(args: argparse.Namespace) -> int:
 
 
 def cmd_train(args: argparse.Namespace) -> int:
-    from locustjump.behaviours import behaviour_class, behaviour_names
     from locustjump.cli.resolve import resolve_config
-    from locustjump.trainer import train
+    from locustjump.runs.trainer import train
+    from locustjump.tasks import behaviour_class, behaviour_names
 
     cfg = resolve_config(
         args.behaviour,
@@ -96,7 +96,7 @@ def cmd_train(args: argparse.Namespace) -> int:
 
 
 def cmd_evaluate(args: argparse.Namespace) -> int:
-    from locustjump.evaluate import evaluate_run
+    from locustjump.present.evaluate import evaluate_run
 
     ev = evaluate_run(args.run, backend=_backend(args))
     if args.json:
@@ -122,7 +122,7 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
 
 
 def cmd_sweep_getup(args: argparse.Namespace) -> int:
-    from locustjump.behaviours.getup import sweep_angles, sweep_run
+    from locustjump.tasks.getup import sweep_angles, sweep_run
 
     angles = sweep_angles(args.step_deg, args.from_deg, args.to_deg)
     sw, files = sweep_run(args.run, angles, backend=_backend(args))
@@ -136,7 +136,7 @@ def cmd_sweep_getup(args: argparse.Namespace) -> int:
 
 
 def cmd_reproduce(args: argparse.Namespace) -> int:
-    from locustjump.reproduce import reproduce, single_seed_command
+    from locustjump.runs.reproduce import reproduce, single_seed_command
 
     common = {
         "budget": args.budget,
@@ -147,7 +147,7 @@ def cmd_reproduce(args: argparse.Namespace) -> int:
         "monolithic": not args.no_monolithic,
     }
     if args.seeds is not None:
-        from locustjump.multiseed import reproduce_seeds
+        from locustjump.runs.multiseed import reproduce_seeds
 
         if args.actors is not None:
             raise UserError(
@@ -179,8 +179,8 @@ def cmd_reproduce(args: argparse.Namespace) -> int:
 
 
 def cmd_replay(args: argparse.Namespace) -> int:
-    from locustjump.behaviours import behaviour_class
-    from locustjump.reproduce import replay
+    from locustjump.runs.reproduce import replay
+    from locustjump.tasks import behaviour_class
 
     failed = 0
     for stage, ev in replay(
@@ -202,7 +202,7 @@ def cmd_replay(args: argparse.Namespace) -> int:
 
 
 def cmd_render(args: argparse.Namespace) -> int:
-    from locustjump.render import render_run
+    from locustjump.present.render import render_run
 
     out = render_run(
         args.dir,
@@ -218,21 +218,21 @@ def cmd_render(args: argparse.Namespace) -> int:
 
 
 def cmd_view(args: argparse.Namespace) -> int:
-    from locustjump.render import view
+    from locustjump.present.render import view
 
     view(args.dir, duration=args.duration)
     return 0
 
 
 def cmd_report(args: argparse.Namespace) -> int:
-    from locustjump.report import write_report
+    from locustjump.present.report import write_report
 
     print(f"wrote {write_report(args.dir, backend=_backend(args))}")
     return 0
 
 
 def cmd_compare(args: argparse.Namespace) -> int:
-    from locustjump.compare import convergence_figure, load_groups, table
+    from locustjump.present.compare import convergence_figure, load_groups, table
 
     figure = None
     if args.figure is not None:
@@ -248,7 +248,7 @@ def cmd_compare(args: argparse.Namespace) -> int:
 
 def frozen_options() -> tuple[str, ...]:
     """Every run some behaviour builds on (``--kick DIR`` ...), in order."""
-    from locustjump.behaviours import behaviour_class, behaviour_names
+    from locustjump.tasks import behaviour_class, behaviour_names
 
     seen: dict[str, None] = {}
     for name in behaviour_names():

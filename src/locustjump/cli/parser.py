@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 
-from locustjump import model as lm
 from locustjump.cli import commands as cmd
 from locustjump.cli.argtypes import (
     _finite_float,
@@ -13,6 +12,7 @@ from locustjump.cli.argtypes import (
     _seeds,
     _substeps,
 )
+from locustjump.sim import model as lm
 
 
 class _Parser(argparse.ArgumentParser):
@@ -34,7 +34,7 @@ def _strut_stiffness_arg(p: argparse.ArgumentParser) -> None:
 
 
 def _add_backend(p: argparse.ArgumentParser) -> None:
-    from locustjump.backends import BACKENDS
+    from locustjump.sim.engine.backends import BACKENDS
 
     p.add_argument(
         "--backend",
@@ -62,7 +62,7 @@ def _add_backend(p: argparse.ArgumentParser) -> None:
 
 
 def _add_optimizer(p: argparse.ArgumentParser, default: str | None) -> None:
-    from locustjump.optimizers import optimizer_kinds
+    from locustjump.evo import optimizer_kinds
 
     p.add_argument(
         "--optimizer",
@@ -82,7 +82,7 @@ def _add_optimizer(p: argparse.ArgumentParser, default: str | None) -> None:
 
 def build_parser() -> argparse.ArgumentParser:
     from locustjump import __version__
-    from locustjump.rules import DEFAULT_CHANGE_TIME
+    from locustjump.tasks.rules import DEFAULT_CHANGE_TIME
 
     ap = _Parser(
         prog="locustjump",
@@ -125,7 +125,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--force", action="store_true", help="write into a non-empty --out")
     p.set_defaults(func=cmd.cmd_rules)
 
-    from locustjump.behaviours import behaviour_names
+    from locustjump.tasks import behaviour_names
 
     p = sub.add_parser(
         "train",
@@ -209,7 +209,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_backend(p)
     p.set_defaults(func=cmd.cmd_sweep_getup)
 
-    from locustjump.reproduce import BUDGETS
+    from locustjump.runs.reproduce import BUDGETS
 
     p = sub.add_parser(
         "reproduce",
@@ -275,7 +275,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_backend(p)
     p.set_defaults(func=cmd.cmd_replay)
 
-    from locustjump.render import CAMERAS
+    from locustjump.present.render import CAMERAS
 
     p = sub.add_parser(
         "render",
@@ -335,7 +335,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_backend(p)
     p.set_defaults(func=cmd.cmd_report)
 
-    from locustjump.compare import KEYS
+    from locustjump.present.compare import KEYS
 
     p = sub.add_parser(
         "compare",

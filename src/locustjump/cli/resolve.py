@@ -7,8 +7,8 @@ import os
 from pathlib import Path
 
 from locustjump import rundir
-from locustjump.config import TrainConfig
 from locustjump.errors import UserError
+from locustjump.rundir.config import TrainConfig
 
 
 def resolve_config(
@@ -28,7 +28,7 @@ def resolve_config(
     """The configuration ``locustjump train`` runs: a resumed run's own
     ``config.toml`` (options may only extend ``generations``), or the defaults,
     overridden by a ``config`` file and then by the options given."""
-    from locustjump.optimizers import params_class
+    from locustjump.evo import params_class
 
     if resume:
         if config is not None:

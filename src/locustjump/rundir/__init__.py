@@ -2,7 +2,7 @@
 
 A **run** (``locustjump train``)::
 
-    DIR/config.toml      the resolved configuration (locustjump.config)
+    DIR/config.toml      the resolved configuration (locustjump.rundir.config)
     DIR/metrics.csv      one row per generation
     DIR/checkpoint.npz   the optimizer's state after the last generation
     DIR/best.npz         the best genome so far

@@ -40,7 +40,7 @@ NUMERICAL_MODEL_FIELDS = ("engine", "substeps")
 def load_config(path: str | os.PathLike, *, behaviour: str = "kick"):
     """Read a (possibly partial) TOML config; missing keys take the defaults
     (``behaviour`` where the file names none)."""
-    from locustjump.config import TrainConfig
+    from locustjump.rundir.config import TrainConfig
 
     d = read_toml(Path(path))
     return TrainConfig.from_dict({"behaviour": behaviour, **d}, str(path))
@@ -138,7 +138,7 @@ class FrozenGenomes:
         each must hold that behaviour, or a variant of it with the same network
         (e.g. a ``kick-apex`` run for the kick), and the creature ``model``
         (``UserError`` naming the directory otherwise)."""
-        from locustjump.behaviours import behaviour_class
+        from locustjump.tasks import behaviour_class
 
         genomes, sources, hashes = [], [], []
         for name in required:
@@ -210,7 +210,7 @@ class FrozenGenomes:
 def behaviour_of(cfg, out: Path):
     """The behaviour of the run in ``out``; one built on frozen runs reads
     their genomes from ``simple.npz`` and checks them against the config."""
-    from locustjump.behaviours import behaviour_class, get_behaviour
+    from locustjump.tasks import behaviour_class, get_behaviour
 
     cls = behaviour_class(cfg.behaviour)
     if not cls.requires:

@@ -6,9 +6,9 @@ from pathlib import Path
 
 import numpy as np
 
-from locustjump import names
-from locustjump.model import CONTROL_DT
 from locustjump.rundir.files import atomic_write_bytes
+from locustjump.sim import names
+from locustjump.sim.model import CONTROL_DT
 
 TRAJECTORY_COLUMNS = (
     ["step", "t", "x", "y", "z", "up_z", "touch"]

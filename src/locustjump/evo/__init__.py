@@ -1,0 +1,76 @@
+"""Optimizers behind one ask/tell protocol (:mod:`locustjump.evo.base`).
+
+=========  ==========================================  ===================
+kind       what                                        module
+=========  ==========================================  ===================
+``rcga``   the paper's real-coded GA (the default)     :mod:`.rcga`
+``cma``    CMA-ES from pycma (extra ``[cma]``)          :mod:`.cma`
+``random`` random search, the floor to beat            :mod:`.random_search`
+=========  ==========================================  ===================
+
+A new optimizer is a class with the protocol's members and a frozen settings
+dataclass; :func:`register` makes it available to ``TrainConfig``,
+``config.toml`` and the command line by its ``kind``.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from locustjump.evo.base import Optimizer, OptimizerParams
+from locustjump.evo.cma import CMAES, CMAParams
+from locustjump.evo.random_search import RandomSearch, RandomSearchParams
+from locustjump.evo.rcga import RCGA, RCGAParams
+
+_REGISTRY: dict[str, type] = {}
+
+
+def register(cls: type) -> type:
+    """Make optimizer class ``cls`` (with ``cls.Params.kind``) known by kind."""
+    kind = cls.Params.kind
+    for member in ("ask", "tell", "stop", "state", "load_state"):
+        if not callable(getattr(cls, member, None)):
+            raise TypeError(f"{cls.__name__} has no {member}() method")
+    _REGISTRY[kind] = cls
+    return cls
+
+
+for _cls in (RCGA, CMAES, RandomSearch):
+    register(_cls)
+
+
+def optimizer_kinds() -> tuple[str, ...]:
+    """The kinds known now (``--optimizer`` choices)."""
+    return tuple(_REGISTRY)
+
+
+def params_class(kind: str) -> type:
+    """The settings dataclass of optimizer ``kind`` (``ValueError`` if unknown)."""
+    try:
+        return _REGISTRY[kind].Params
+    except KeyError:
+        raise ValueError(
+            f"unknown optimizer {kind!r}; choose from {', '.join(_REGISTRY)}"
+        ) from None
+
+
+def make_optimizer(params: Any, num_params: int, seed: int) -> Optimizer:
+    """A fresh optimizer for settings ``params`` (its ``kind`` picks the class)."""
+    params_class(params.kind)
+    return _REGISTRY[params.kind](num_params, params, seed)
+
+
+__all__ = [
+    "CMAES",
+    "RCGA",
+    "CMAParams",
+    "Optimizer",
+    "OptimizerParams",
+    "RCGAParams",
+    "RandomSearch",
+    "RandomSearchParams",
+    "make_optimizer",
+    "optimizer_kinds",
+    "params_class",
+    "register",
+]

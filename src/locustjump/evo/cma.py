@@ -1,0 +1,127 @@
+"""CMA-ES (Hansen & Ostermeier 2001) from the ``cma`` library (pycma), behind
+the ask/tell protocol (extra ``locustjump[cma]``).
+
+pycma minimises, so it is told ``-fitness``. Its own checkpoint is a pickle,
+which this project never loads; instead the state is the run's seed plus every
+fitness vector told so far: ask/tell is a deterministic function of them, so
+:meth:`CMAES.load_state` rebuilds the strategy and replays ask/tell without
+re-simulating (about 5 ms a generation for 144 genes and population 50, measured). All
+of pycma's sampling goes through its ``randn`` option, which is given a
+``numpy.random.Generator`` seeded from the run's seed: no global random state
+is read or written.
+
+pycma's own stopping rules that would end a fixed-budget run early (flat
+fitness, the iteration cap, tiny changes) are switched off; those that signal a
+numerical breakdown (ill-conditioned covariance, a runaway step size) stay on
+and are reported by :meth:`CMAES.stop`.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
+import numpy as np
+
+from locustjump.evo.base import BestSoFar
+
+#: pycma's stop keys that are ours to ignore: the trainer owns the budget
+_BUDGET_RULES = {
+    "maxiter": float("inf"),
+    "tolflatfitness": 10**9,
+    "tolfun": 0.0,
+    "tolfunhist": 0.0,
+    "tolx": 0.0,
+    "tolstagnation": 10**9,
+}
+
+
+@dataclass(frozen=True)
+class CMAParams:
+    """Settings of CMA-ES: the initial mean is 0, the initial step ``sigma0``."""
+
+    kind: ClassVar[str] = "cma"
+    population: int = 50  # lambda, genomes per generation (paper's GA: 50)
+    sigma0: float = 0.5  # initial step size (genes of the RCGA start in [-1, 1])
+
+    def __post_init__(self) -> None:
+        if self.population < 2:
+            raise ValueError(f"population must be >= 2, got {self.population}")
+        if not (np.isfinite(self.sigma0) and 0 < self.sigma0 <= 1.0e6):
+            raise ValueError(f"sigma0 must be in (0, 1e6], got {self.sigma0}")
+
+    def replace(self, **changes: Any) -> CMAParams:
+        return dataclasses.replace(self, **changes)
+
+
+def _import_cma():
+    try:
+        import cma
+    except ImportError:
+        raise ImportError(
+            "--optimizer cma needs the cma library: pip install 'locustjump[cma]'"
+        ) from None
+    return cma
+
+
+class CMAES(BestSoFar):
+    """Ask/tell CMA-ES over pycma. Maximises."""
+
+    Params: ClassVar[type] = CMAParams
+
+    def __init__(self, num_params: int, params: CMAParams = CMAParams(), seed: int = 0):
+        self.num_params, self.params, self.seed = int(num_params), params, int(seed)
+        self._start()
+
+    def _start(self) -> None:
+        cma = _import_cma()
+        rng = np.random.default_rng(self.seed)
+        opts = {
+            "popsize": self.params.population,
+            "seed": np.nan,  # pycma leaves numpy's global generator alone
+            "randn": lambda lam, n: rng.standard_normal((lam, n)),
+            "verbose": -9,
+            "verb_log": 0,
+            "verb_disp": 0,
+            **_BUDGET_RULES,
+        }
+        self.es = cma.CMAEvolutionStrategy(
+            np.zeros(self.num_params), self.params.sigma0, opts
+        )
+        self.history: list[np.ndarray] = []
+        self._reset(self.num_params)
+
+    def _sample(self) -> np.ndarray:
+        return np.array(self.es.ask(), dtype=np.float64)
+
+    def _learn(self, x: np.ndarray, f: np.ndarray) -> None:
+        self.es.tell(list(x), list(-f))  # pycma minimises
+        self.history.append(f.copy())
+
+    def stop(self) -> str | None:
+        reasons = {k: v for k, v in self.es.stop().items() if k not in _BUDGET_RULES}
+        return ", ".join(f"{k} {v}" for k, v in reasons.items()) or None
+
+    def state(self) -> dict[str, np.ndarray]:
+        self._check_between_generations()
+        return {
+            "generation": np.array(self.generation),
+            "seed": np.array(self.seed),
+            "fitness_history": np.array(self.history).reshape(
+                self.generation, self.params.population
+            ),
+        }
+
+    def load_state(self, state: Mapping[str, np.ndarray]) -> None:
+        """Rebuild from the seed and replay ask/tell with the recorded fitness."""
+        hist = np.asarray(state["fitness_history"], dtype=np.float64)
+        if int(state["seed"]) != self.seed:
+            raise ValueError(f"state is of seed {int(state['seed'])}, not {self.seed}")
+        if hist.shape != (int(state["generation"]), self.params.population):
+            raise ValueError(f"fitness_history has the wrong shape {hist.shape}")
+        self._start()
+        for f in hist:
+            self.ask()
+            self.tell(f)

@@ -1,0 +1,78 @@
+"""Random search: every generation a fresh uniform sample; the floor that any
+optimizer must beat at the same number of evaluations (Bergstra & Bengio 2012
+make the case for it as a baseline).
+
+Genes are uniform in ``[-init_scale, init_scale]``, the RCGA's initial
+distribution, so generation 1 of both is the same kind of sample.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
+import numpy as np
+
+from locustjump.evo.base import BestSoFar, rng_from_state, rng_state
+
+
+@dataclass(frozen=True)
+class RandomSearchParams:
+    """Settings of random search."""
+
+    kind: ClassVar[str] = "random"
+    population: int = 50  # genomes per generation
+    init_scale: float = 1.0  # genes uniform in [-init_scale, init_scale]
+
+    def __post_init__(self) -> None:
+        if self.population < 1:
+            raise ValueError(f"population must be >= 1, got {self.population}")
+        if not (np.isfinite(self.init_scale) and 0 < self.init_scale <= 1.0e6):
+            raise ValueError(f"init_scale must be in (0, 1e6], got {self.init_scale}")
+
+    def replace(self, **changes: Any) -> RandomSearchParams:
+        return dataclasses.replace(self, **changes)
+
+
+class RandomSearch(BestSoFar):
+    """Ask/tell random search. Maximises; never stops on its own."""
+
+    Params: ClassVar[type] = RandomSearchParams
+
+    def __init__(
+        self,
+        num_params: int,
+        params: RandomSearchParams = RandomSearchParams(),
+        seed: int = 0,
+    ):
+        self.num_params, self.params = int(num_params), params
+        self.rng = np.random.default_rng(seed)
+        self._reset(self.num_params)
+
+    def _sample(self) -> np.ndarray:
+        s = self.params.init_scale
+        return self.rng.uniform(-s, s, size=(self.params.population, self.num_params))
+
+    def stop(self) -> str | None:
+        return None
+
+    def state(self) -> dict[str, np.ndarray]:
+        self._check_between_generations()
+        return {
+            "generation": np.array(self.generation),
+            "fitness": self.fitness.copy(),
+            "best": self._best.copy(),
+            "best_fitness_so_far": np.array(self._best_fitness),
+            "rng_state": rng_state(self.rng),
+        }
+
+    def load_state(self, state: Mapping[str, np.ndarray]) -> None:
+        self.rng = rng_from_state(state["rng_state"])
+        self.generation = int(state["generation"])
+        self.fitness = np.array(state["fitness"], dtype=np.float64)
+        self._best = np.array(state["best"], dtype=np.float64)
+        self._best_fitness = float(state["best_fitness_so_far"])
+        if self._best.shape != (self.num_params,) or self.generation < 1:
+            raise ValueError("random-search state has the wrong shape")

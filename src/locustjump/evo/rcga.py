@@ -1,0 +1,335 @@
+"""A real-coded genetic algorithm (RCGA) with an ask/tell interface (paper §3).
+
+The paper names elitism, crossover and mutation but not the operators; our
+defaults (SPEC "RCGA") and why:
+
+* **elitism**: the ``elite`` best individuals survive unchanged *with their
+  fitness* (the simulation is deterministic, so they are never re-simulated:
+  :meth:`RCGA.ask` returns only the new children);
+* **selection**: tournaments of ``tournament_size`` = 3 drawn with
+  replacement; rank-based, so the scale of the fitness does not matter;
+* **crossover**: BLX-alpha (Eshelman & Schaffer 1993), alpha = 0.5: each gene
+  of the child is uniform on the parents' interval widened by alpha times its
+  width on each side. Child mean = parents' mean, child variance =
+  ``(1 + 2 alpha)^2 d^2 / 12`` for parent distance ``d``. Alternatives: SBX
+  (Deb & Agrawal 1995, distribution index ``sbx_eta``) and UNDX (Ono &
+  Kobayashi 1997, ``undx_sigma_xi``, ``undx_sigma_eta``);
+* **mutation**: each gene of a child is perturbed, with probability
+  ``mutation_rate``, by Gaussian noise of standard deviation ``mutation_sigma``.
+
+Fitness is maximised. All randomness comes from one ``numpy.random.Generator``
+that the caller passes in, so a run is reproduced exactly from its seed and can
+be checkpointed (:meth:`RCGA.state` / :meth:`RCGA.from_state`).
+
+Example::
+
+    ga = RCGA(num_params=10, params=RCGAParams(population=50), rng=0)
+    for _ in range(200):
+        x = ga.ask()
+        ga.tell(-np.sum(x**2, axis=1))
+    print(ga.best_fitness)
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any, ClassVar, Literal
+
+import numpy as np
+
+from locustjump.evo.base import check_fitness, rng_from_state, rng_state
+
+#: Bound on every gene-scale setting: a tanh network saturates long before.
+MAX_GENE_SCALE = 1.0e6
+
+Crossover = Literal["blx", "sbx", "undx"]
+CROSSOVERS: tuple[str, ...] = ("blx", "sbx", "undx")
+
+
+@dataclass(frozen=True)
+class RCGAParams:
+    """Settings of the RCGA; the defaults are the project's (module docstring)."""
+
+    kind: ClassVar[str] = "rcga"
+    population: int = 50  # individuals per generation (paper: 50)
+    elite: int = 2  # best individuals copied unchanged into the next generation
+    tournament_size: int = 3
+    crossover: Crossover = "blx"
+    crossover_rate: float = 1.0  # else the child is a copy of its first parent
+    blx_alpha: float = 0.5
+    sbx_eta: float = 2.0  # small eta: children spread far from the parents
+    undx_sigma_xi: float = 0.5
+    undx_sigma_eta: float = 0.35  # divided by sqrt(num_params) (Ono & Kobayashi)
+    mutation_rate: float = 0.1  # per gene
+    mutation_sigma: float = 0.1
+    init_scale: float = 1.0  # initial genes uniform in [-init_scale, init_scale]
+
+    def __post_init__(self) -> None:
+        if self.population < 2:
+            raise ValueError(f"population must be >= 2, got {self.population}")
+        if not 0 <= self.elite < self.population:
+            raise ValueError(
+                f"elite must be in [0, population), got {self.elite} "
+                f"(population {self.population})"
+            )
+        if self.tournament_size < 1:
+            raise ValueError(
+                f"tournament_size must be >= 1, got {self.tournament_size}"
+            )
+        if self.crossover not in CROSSOVERS:
+            raise ValueError(
+                f"crossover must be one of {', '.join(CROSSOVERS)}, "
+                f"got {self.crossover!r}"
+            )
+        for name in ("crossover_rate", "mutation_rate"):
+            v = getattr(self, name)
+            if not 0.0 <= v <= 1.0:
+                raise ValueError(f"{name} must be in [0, 1], got {v}")
+        for name in (
+            "blx_alpha",
+            "sbx_eta",
+            "undx_sigma_xi",
+            "undx_sigma_eta",
+            "mutation_sigma",
+            "init_scale",
+        ):
+            v = getattr(self, name)
+            if not (np.isfinite(v) and 0 <= v <= MAX_GENE_SCALE):
+                raise ValueError(f"{name} must be in [0, {MAX_GENE_SCALE:g}], got {v}")
+
+    def replace(self, **changes: Any) -> RCGAParams:
+        return dataclasses.replace(self, **changes)
+
+
+# --- operators: pure functions of (parents, rng) ------------------------------
+
+
+def blx_alpha(
+    a: np.ndarray, b: np.ndarray, alpha: float, rng: np.random.Generator
+) -> np.ndarray:
+    """One BLX-alpha child per row of parents ``a``, ``b`` (n, P)."""
+    lo, hi = np.minimum(a, b), np.maximum(a, b)
+    d = hi - lo
+    return rng.uniform(lo - alpha * d, hi + alpha * d)
+
+
+def sbx(
+    a: np.ndarray, b: np.ndarray, eta: float, rng: np.random.Generator
+) -> np.ndarray:
+    """One simulated-binary-crossover child per row (unbounded SBX).
+
+    The spread factor beta has density ~ beta^eta below 1 and beta^-(eta+2)
+    above; each gene takes either of the two symmetric children at random, so
+    the child mean is the parents' mean.
+    """
+    u = rng.random(a.shape)
+    beta = np.where(
+        u <= 0.5,
+        (2.0 * u) ** (1.0 / (eta + 1.0)),
+        (1.0 / (2.0 * (1.0 - u))) ** (1.0 / (eta + 1.0)),
+    )
+    sign = np.where(rng.random(a.shape) < 0.5, 1.0, -1.0)
+    return 0.5 * (a + b) + sign * 0.5 * beta * (b - a)
+
+
+def undx(
+    a: np.ndarray,
+    b: np.ndarray,
+    c: np.ndarray,
+    sigma_xi: float,
+    sigma_eta: float,
+    rng: np.random.Generator,
+) -> np.ndarray:
+    """Unimodal normal distribution crossover, one child per row.
+
+    ``child = m + xi * (b - a) + eta``: ``m`` the midpoint of ``a`` and ``b``,
+    ``xi ~ N(0, sigma_xi^2)`` along the primary axis, ``eta`` normal with
+    standard deviation ``sigma_eta / sqrt(P) * D`` in the subspace orthogonal to
+    it, ``D`` the distance of the third parent ``c`` from the line ``a``–``b``.
+    """
+    n, P = a.shape
+    m = 0.5 * (a + b)
+    d = b - a
+    dn2 = np.einsum("ij,ij->i", d, d)
+    safe = np.where(dn2 > 0, dn2, 1.0)
+    rel = c - a
+    along = (np.einsum("ij,ij->i", rel, d) / safe)[:, None] * d
+    D = np.linalg.norm(rel - along, axis=1)
+    xi = rng.normal(0.0, sigma_xi, size=(n, 1))
+    eta = rng.normal(0.0, 1.0, size=(n, P)) * (sigma_eta / np.sqrt(P) * D)[:, None]
+    eta -= (np.einsum("ij,ij->i", eta, d) / safe)[:, None] * d
+    return m + xi * d + eta
+
+
+def gaussian_mutation(
+    x: np.ndarray, rate: float, sigma: float, rng: np.random.Generator
+) -> np.ndarray:
+    """Each gene perturbed with probability ``rate`` by ``N(0, sigma^2)``."""
+    mask = rng.random(x.shape) < rate
+    return x + mask * rng.normal(0.0, sigma, size=x.shape)
+
+
+def tournament(
+    fitness: np.ndarray, n: int, k: int, rng: np.random.Generator
+) -> np.ndarray:
+    """Indices of the winners of ``n`` size-``k`` tournaments, entrants drawn
+    with replacement; a tie goes to the first entrant drawn."""
+    entrants = rng.integers(0, fitness.shape[0], size=(n, k))
+    winner = np.argmax(fitness[entrants], axis=1)
+    return entrants[np.arange(n), winner]
+
+
+# --- the algorithm ------------------------------------------------------------
+
+
+class RCGA:
+    """Ask/tell real-coded GA. Maximises.
+
+    ``ask()`` returns the genomes to evaluate: the whole initial population in
+    the first generation, afterwards only the ``population - elite`` new
+    children (the elites keep their fitness). ``tell(fitness)`` takes their
+    fitness, in the same order.
+
+    Args:
+      num_params: genes per genome.
+      params: the settings.
+      rng: a ``numpy.random.Generator`` or a seed.
+      init: optional (population, num_params) initial population; default
+        uniform in ``[-init_scale, init_scale]``.
+    """
+
+    Params: ClassVar[type] = RCGAParams
+
+    def __init__(
+        self,
+        num_params: int,
+        params: RCGAParams = RCGAParams(),
+        rng: np.random.Generator | int = 0,
+        init: np.ndarray | None = None,
+    ):
+        if num_params < 1:
+            raise ValueError(f"num_params must be >= 1, got {num_params}")
+        self.num_params = int(num_params)
+        self.params = params
+        self.rng = (
+            rng if isinstance(rng, np.random.Generator) else np.random.default_rng(rng)
+        )
+        self.generation = 0  # completed tell() calls
+        # sorted best-first after each tell()
+        self.population = np.empty((0, num_params))
+        self.fitness = np.empty(0)
+        self._asked: np.ndarray | None = None
+        self._init = None if init is None else np.array(init, dtype=np.float64)
+        if self._init is not None and self._init.shape != (
+            params.population,
+            num_params,
+        ):
+            raise ValueError(
+                f"init has shape {self._init.shape}, expected "
+                f"({params.population}, {num_params})"
+            )
+
+    # -- ask/tell --
+
+    def ask(self) -> np.ndarray:
+        """Genomes to evaluate next, (n, num_params)."""
+        if self._asked is not None:
+            return self._asked.copy()
+        p = self.params
+        if self.generation == 0:
+            if self._init is not None:
+                x = self._init.copy()
+            else:
+                x = self.rng.uniform(
+                    -p.init_scale, p.init_scale, size=(p.population, self.num_params)
+                )
+        else:
+            x = self._children(p.population - p.elite)
+        self._asked = x
+        return x.copy()
+
+    def tell(self, fitness: np.ndarray) -> None:
+        """Fitness (n,) of the genomes of the last :meth:`ask`, same order."""
+        if self._asked is None:
+            raise RuntimeError("tell() without a pending ask()")
+        f = check_fitness(fitness, self._asked.shape[0])
+        e = self.params.elite if self.generation > 0 else 0
+        pop = np.concatenate([self.population[:e], self._asked])
+        fit = np.concatenate([self.fitness[:e], f])
+        order = np.argsort(-fit, kind="stable")  # elites win ties: they come first
+        self.population, self.fitness = pop[order], fit[order]
+        self._asked = None
+        self.generation += 1
+
+    @property
+    def best(self) -> np.ndarray:
+        """Best genome so far (elitism keeps it in the population)."""
+        return self.population[0].copy()
+
+    @property
+    def best_fitness(self) -> float:
+        return float(self.fitness[0])
+
+    def stop(self) -> str | None:
+        """The RCGA runs its whole budget: never a reason to stop."""
+        return None
+
+    # -- variation --
+
+    def _children(self, n: int) -> np.ndarray:
+        p, rng = self.params, self.rng
+
+        def pick() -> np.ndarray:
+            return self.population[tournament(self.fitness, n, p.tournament_size, rng)]
+
+        a, b = pick(), pick()
+        if p.crossover == "blx":
+            x = blx_alpha(a, b, p.blx_alpha, rng)
+        elif p.crossover == "sbx":
+            x = sbx(a, b, p.sbx_eta, rng)
+        else:
+            x = undx(a, b, pick(), p.undx_sigma_xi, p.undx_sigma_eta, rng)
+        if p.crossover_rate < 1.0:
+            keep = rng.random(n) >= p.crossover_rate
+            x[keep] = a[keep]
+        return gaussian_mutation(x, p.mutation_rate, p.mutation_sigma, rng)
+
+    # -- checkpointing --
+
+    def state(self) -> dict[str, np.ndarray]:
+        """Arrays that restore this GA exactly (for an ``.npz`` checkpoint)."""
+        if self._asked is not None:
+            raise RuntimeError("checkpoint between generations (after tell())")
+        return {
+            "generation": np.array(self.generation),
+            "population": self.population.copy(),
+            "fitness": self.fitness.copy(),
+            "rng_state": rng_state(self.rng),
+        }
+
+    def load_state(self, state: Mapping[str, np.ndarray]) -> None:
+        """Inverse of :meth:`state` (``ValueError`` on inconsistent data)."""
+        self.rng = rng_from_state(state["rng_state"])
+        self.generation = int(state["generation"])
+        self.population = np.array(state["population"], dtype=np.float64)
+        self.fitness = np.array(state["fitness"], dtype=np.float64)
+        self._asked = None
+        n = self.params.population
+        if self.generation < 1 or self.population.shape != (n, self.num_params):
+            raise ValueError(
+                f"population has shape {self.population.shape} at generation "
+                f"{self.generation}, expected ({n}, {self.num_params})"
+            )
+        if self.fitness.shape != (n,) or np.isnan(self.fitness).any():
+            raise ValueError("fitness has the wrong shape or contains NaN")
+
+    @classmethod
+    def from_state(
+        cls, num_params: int, params: RCGAParams, state: Mapping[str, np.ndarray]
+    ) -> RCGA:
+        """A GA restored from :meth:`state`."""
+        ga = cls(num_params, params)
+        ga.load_state(state)
+        return ga

@@ -1,0 +1,84 @@
+"""Evaluation: re-simulate a run's best genome; its fitness, metrics, figures."""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from locustjump import rundir
+
+if TYPE_CHECKING:
+    from locustjump.sim.engine.backends import Backend
+
+
+@dataclass
+class Evaluation:
+    behaviour: str
+    fitness: float
+    recorded_fitness: float
+    metrics: dict[str, Any]
+    files: list[Path]
+
+    @property
+    def matches(self) -> bool:
+        return self.fitness == self.recorded_fitness
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "behaviour": self.behaviour,
+            "fitness": self.fitness,
+            "recorded_fitness": self.recorded_fitness,
+            "fitness_matches": self.matches,
+            "metrics": self.metrics,
+            "files": [str(f) for f in self.files],
+        }
+
+
+def evaluate_run(
+    path: str | os.PathLike,
+    *,
+    backend: Backend | None = None,
+    eval_dir: str | os.PathLike | None = None,
+) -> Evaluation:
+    """Re-simulate a run's best genome; write ``DIR/eval/`` (trajectory CSVs and
+    the behaviour's figures), or ``eval_dir`` if given.
+
+    ``eval/`` holds derived files only: they are rewritten on every call.
+    """
+    if backend is None:
+        from locustjump.sim.engine.backends import ThreadBackend
+
+        backend = ThreadBackend()
+    out = Path(path)
+    cfg, beh, best = rundir.load_run(out)
+    p = cfg.model
+    res = beh.simulate(
+        best.genome[None], p, backend=backend, record=beh.eval_record,
+        label=f"evaluate {cfg.behaviour}",
+    )  # fmt: skip
+    fitness = float(beh.score(best.genome[None], res, p, backend=backend)[0])
+    metrics = beh.metrics(res, p, best.genome, backend=backend)
+    ev = out / rundir.EVAL if eval_dir is None else Path(eval_dir)
+    if eval_dir is None:
+        with rundir.locked(out):
+            return _write(cfg, beh, best, res, fitness, metrics, ev, backend)
+    return _write(cfg, beh, best, res, fitness, metrics, ev, backend)
+
+
+def _write(cfg, beh, best, res, fitness, metrics, ev: Path, backend) -> Evaluation:
+    """Trajectory CSVs and the behaviour's figures into ``ev``."""
+    p = cfg.model
+    ev.mkdir(parents=True, exist_ok=True)
+    labels = beh.state_labels()
+    files = []
+    for e, label in enumerate(labels):
+        stem, ext = rundir.TRAJECTORY_CSV.rsplit(".", 1)
+        name = f"{stem}.{ext}" if len(labels) == 1 else f"{stem}_{label}.{ext}"
+        files.append(ev / name)
+        rundir.write_trajectory_csv(
+            files[-1], res["qpos"][e], res["obs"][e], res["ctrl"][e]
+        )
+    files += beh.write_figures(res, p, ev, backend=backend)
+    return Evaluation(cfg.behaviour, fitness, best.fitness, metrics, files)

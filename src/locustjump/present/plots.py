@@ -1,0 +1,203 @@
+"""Figures (Matplotlib, Agg backend: no display needed)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from locustjump.sim.analysis import Jump  # noqa: E402
+
+
+def _save(fig, path: Path) -> None:
+    """Write ``fig`` as PNG with the run directory's atomic writer; close it."""
+    from locustjump.rundir import atomic_write_bytes
+
+    atomic_write_bytes(path, lambda f: fig.savefig(f, dpi=120, format="png"))
+    plt.close(fig)
+
+
+def _finish(fig, ax, path: Path, title: str, *, legend: str) -> None:
+    """Grid, legend, title; save as PNG and close."""
+    ax.grid(alpha=0.3)
+    ax.legend(loc=legend, fontsize=8)
+    if title:
+        ax.set_title(title)
+    _save(fig, path)
+
+
+def _plot_trajectories(
+    ax, curves: list[tuple[str, np.ndarray, list[Jump]]], lw: float = 1.4
+) -> None:
+    """Height z vs distance x per curve, apexes marked."""
+    for label, qpos, jumps in curves:
+        (line,) = ax.plot(qpos[:, 0], qpos[:, 2], lw=lw, label=label)
+        if jumps:
+            ax.plot(
+                [j.apex_x for j in jumps],
+                [j.apex_height for j in jumps],
+                "v",
+                color=line.get_color(),
+                ms=6,
+                label=f"{label}: {len(jumps)} jump{'s' * (len(jumps) != 1)} (apex)",
+            )
+    ax.set_xlabel("distance x [m]")
+    ax.set_ylabel("height z [m]")
+    ax.set_ylim(bottom=0)
+
+
+def trajectory_figure(
+    path: Path,
+    curves: list[tuple[str, np.ndarray, list[Jump]]],
+    *,
+    title: str = "",
+) -> None:
+    """Height z vs distance x (the paper's Fig. 5/7), apexes marked.
+
+    Args:
+      path: the PNG to write.
+      curves: (label, qpos (T, nq), jumps) per trajectory.
+      title: figure title.
+    """
+    fig, ax = plt.subplots(figsize=(9, 3.6), constrained_layout=True)
+    _plot_trajectories(ax, curves)
+    _finish(fig, ax, path, title, legend="upper right")
+
+
+def fitness_curves(path: Path, metrics: np.ndarray, *, title: str = "") -> None:
+    """Best and mean (+- std) fitness per generation from a metrics table."""
+    g = metrics["generation"]
+    fig, ax = plt.subplots(figsize=(6.4, 3.6), constrained_layout=True)
+    ax.fill_between(
+        g,
+        metrics["mean"] - metrics["std"],
+        metrics["mean"] + metrics["std"],
+        alpha=0.2,
+        lw=0,
+        label="mean +- std",
+    )
+    ax.plot(g, metrics["mean"], lw=1.0, label="mean")
+    ax.plot(g, metrics["best"], lw=1.6, label="best")
+    ax.set_xlabel("generation")
+    ax.set_ylabel("fitness")
+    _finish(fig, ax, path, title, legend="lower right")
+
+
+def composed_figure(
+    path: Path,
+    curves: list[tuple[str, np.ndarray, list[Jump]]],
+    selected: np.ndarray | None,
+    names: tuple[str, ...],
+    *,
+    title: str = "",
+) -> None:
+    """The paper's Fig. 12: trajectories (z vs x) and, under them, the simple
+    behaviour selected at each control step of the first curve.
+
+    Args:
+      path: the PNG to write.
+      curves: (label, qpos (T + 1, nq), jumps) per trajectory, first the
+        controlled one.
+      selected: (T,) index into ``names`` per control step, or None.
+      names: the simple behaviours' names.
+      title: figure title.
+    """
+    from matplotlib.colors import ListedColormap
+
+    rows = 2 if selected is not None else 1
+    fig, axes = plt.subplots(
+        rows,
+        1,
+        figsize=(9, 4.6 if rows == 2 else 3.6),
+        constrained_layout=True,
+        height_ratios=[4, 1] if rows == 2 else None,
+        squeeze=False,
+    )
+    ax = axes[0, 0]
+    _plot_trajectories(ax, curves, lw=1.2)
+    ax.grid(alpha=0.3)
+    ax.legend(loc="upper right", fontsize=8)
+    if title:
+        ax.set_title(title)
+    if selected is not None:
+        from locustjump.sim.model import CONTROL_DT
+
+        tl = axes[1, 0]
+        colors = ListedColormap(["tab:red", "tab:green", "tab:blue"][: len(names)])
+        tl.imshow(
+            selected[None, :],
+            aspect="auto",
+            cmap=colors,
+            vmin=-0.5,
+            vmax=len(names) - 0.5,
+            interpolation="nearest",
+            extent=(0, len(selected) * CONTROL_DT, 0, 1),
+        )
+        tl.set_yticks([])
+        tl.set_xlabel("time [s]")
+        tl.set_title("selected simple behaviour", fontsize=9)
+        for i, n in enumerate(names):
+            tl.plot([], [], "s", color=colors(i), label=n)
+        tl.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=8)
+    _save(fig, path)
+
+
+def getup_figure(
+    path: Path, uz: np.ndarray, rolls: tuple[float, ...], success: float
+) -> None:
+    """U_z over time from each start state (the paper's Fig. 9)."""
+    from locustjump.sim.model import CONTROL_DT
+
+    t = np.arange(uz.shape[1]) * CONTROL_DT
+    fig, ax = plt.subplots(figsize=(7, 3.6), constrained_layout=True)
+    for u, r in zip(uz, rolls, strict=True):
+        ax.plot(t, u, lw=1.3, label=f"rolled {r:g} deg")
+    ax.axhline(success, color="k", ls=":", lw=1, label=f"success (U_z >= {success})")
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel("U_z (body up-axis . world z)")
+    ax.set_ylim(-1.05, 1.05)
+    _finish(
+        fig, ax, path, "Getting up from the five start states", legend="lower right"
+    )
+
+
+def joint_angles_figure(path: Path, angles: np.ndarray, target: np.ndarray) -> None:
+    """The four hind joint angles over time and their ready angles phi (Fig. 10)."""
+    from locustjump.sim.model import CONTROL_DT
+    from locustjump.sim.names import ACTUATED_JOINTS
+
+    t = np.arange(angles.shape[0]) * CONTROL_DT
+    fig, ax = plt.subplots(figsize=(7, 3.6), constrained_layout=True)
+    for i, name in enumerate(ACTUATED_JOINTS):
+        (line,) = ax.plot(t, np.degrees(angles[:, i]), lw=1.3, label=name)
+        ax.axhline(np.degrees(target[i]), color=line.get_color(), ls="--", lw=0.8)
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel("joint angle [deg] (dashed: phi)")
+    _finish(
+        fig, ax, path, "Returning the legs to the ready posture", legend="center right"
+    )
+
+
+def sweep_figure(path: Path, sweep, *, title: str = "") -> None:
+    """Polar plot of get-up success over the start roll angle."""
+    fig = plt.figure(figsize=(5.2, 5.2), constrained_layout=True)
+    ax = fig.add_subplot(projection="polar")
+    ax.set_theta_zero_location("N")  # 0 deg = upright, at the top
+    ax.set_theta_direction(-1)
+    theta = np.radians(sweep.roll_deg)
+    r = np.where(sweep.training, 1.15, 1.0)
+    ok = sweep.success
+    ax.scatter(theta[ok], r[ok], s=14, color="tab:green", label="got up")
+    ax.scatter(theta[~ok], r[~ok], s=14, color="tab:red", label="did not")
+    tr = sweep.training
+    ax.scatter(theta[tr], r[tr], s=60, facecolors="none", edgecolors="k",
+               label="training states")  # fmt: skip
+    ax.set_rticks([])
+    ax.set_ylim(0, 1.3)
+    ax.legend(loc="lower center", bbox_to_anchor=(0.5, -0.02), fontsize=8, ncol=3)
+    ax.set_title(title or f"Got up from {sweep.got_up} of {sweep.n_sweep}")
+    _save(fig, path)

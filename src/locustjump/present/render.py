@@ -1,0 +1,399 @@
+"""Videos and the interactive viewer of a run's best controller.
+
+:func:`playback_of` re-simulates what a directory holds (the best genome of a
+training run, or a rule-based run) with the engine and keeps every control
+step's ``qpos``; :func:`render_video` draws it offscreen with MuJoCo's renderer
+(cameras ``track`` and ``side`` of the MJCF) and encodes it with ``imageio``
+(extra ``locustjump[video]``); :func:`view` plays it in ``mujoco.viewer``.
+
+Headless Linux renders with EGL (``MUJOCO_GL=egl``, Debian package
+``libegl1``, the default here when no display is set) or OSMesa
+(``MUJOCO_GL=osmesa``, package ``libosmesa6``).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import sys
+import threading
+import time
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import mujoco
+import numpy as np
+
+from locustjump import rundir
+from locustjump.errors import UserError
+from locustjump.rundir.config import from_table
+from locustjump.sim import model as lm
+from locustjump.sim import names
+from locustjump.sim.controller import Controller
+from locustjump.sim.engine.episode import Episode
+from locustjump.sim.engine.rollout import StartStates, rollout
+from locustjump.sim.model import CONTROL_DT
+
+if TYPE_CHECKING:
+    from locustjump.sim.engine.backends import Backend
+
+CAMERAS = (names.CAMERA_TRACK, names.CAMERA_SIDE)
+VIDEO_SUFFIXES = (".mp4", ".gif")
+#: tile size (pixels) when several episodes play side by side
+TILE = (320, 240)
+
+
+class RenderUnavailable(UserError):
+    """Offscreen rendering or video encoding is not possible here."""
+
+
+@dataclass(frozen=True)
+class Playback:
+    """What a video shows: episodes played side by side.
+
+    Attributes:
+      model_params: the creature.
+      qpos: (k, T + 1, nq) per control step of each of k episodes.
+      labels: a label per episode (e.g. the get-up start roll).
+      captions: (k, T + 1) text per step (e.g. the active behaviour), or None.
+      title: what it is.
+    """
+
+    model_params: lm.LocustParams
+    qpos: np.ndarray
+    labels: list[str]
+    captions: np.ndarray | None
+    title: str
+
+    @property
+    def n_steps(self) -> int:
+        return self.qpos.shape[1] - 1
+
+
+def _rules_run(path: Path) -> tuple[float, int, lm.LocustParams] | None:
+    """(change time, steps, creature) of a rule-based run directory, else None.
+    Summaries written before the creature was recorded are of the default one."""
+    if not rundir.is_rules_run(path):
+        return None
+    f = path / rundir.RULES_SUMMARY
+    summary = rundir.read_json(f)
+    try:
+        p = (
+            from_table(lm.LocustParams, summary["model"], "model", str(f))
+            if "model" in summary
+            else lm.LocustParams()
+        )
+        return float(summary["change_time_s"]), int(summary.get("steps", 3000)), p
+    except (KeyError, TypeError, ValueError) as e:
+        raise UserError(f"{f}: not a rule-based run summary ({e})") from None
+
+
+@dataclass(frozen=True)
+class Source:
+    """A controller and its episodes, as a directory holds them."""
+
+    model_params: lm.LocustParams
+    controller: Controller
+    params: np.ndarray  # (1, num_params)
+    starts: StartStates
+    n_steps: int
+    labels: list[str]
+    title: str
+    memory_names: tuple[str, ...] | None = None  # memory[0] indexes these
+
+
+def source_of(path: str | os.PathLike) -> Source:
+    """What directory ``path`` holds: a training run's best genome
+    (``config.toml`` + ``best.npz``) or a rule-based run (``locustjump rules``
+    or a reproduction's ``rules/``: ``summary.json`` + ``trajectory.csv``)."""
+    out = Path(path)
+    if not out.is_dir():
+        raise UserError(f"{out}: no such directory")
+    if rundir.is_reproduction(out):
+        raise UserError(
+            f"{out}: a reproduction; give one of its stages, e.g. {out / 'kick'}"
+        )
+    if not rundir.is_run(out):
+        rules = _rules_run(out)
+        if rules is None:
+            raise UserError(
+                f"{out}: holds no run (no {rundir.CONFIG}) and no rule-based run "
+                f"(no {rundir.RULES_SUMMARY} + {rundir.TRAJECTORY_CSV})"
+            )
+        from locustjump.tasks.rules import RuleController
+
+        change_time, steps, p = rules
+        rc = RuleController.for_model(p)
+        return Source(
+            p,
+            rc,
+            rc.params_for(change_time),
+            StartStates.ready(lm.load_model(p)),
+            steps,
+            ["rule-based"],
+            f"rule-based, change time {change_time:.3f} s",
+        )
+    cfg, beh, best = rundir.load_run(out)
+    labels = beh.state_labels()
+    return Source(
+        cfg.model,
+        beh.controller,
+        best.genome[None],
+        beh.start_states(cfg.model),
+        beh.n_steps,
+        labels if len(labels) > 1 else [cfg.behaviour],
+        f"{cfg.behaviour}, best of generation {best.generation}, "
+        f"fitness {best.fitness:.4g}",
+        beh.memory_labels,
+    )
+
+
+def playback_of(path: str | os.PathLike, *, backend: Backend | None = None) -> Playback:
+    """Re-simulate what directory ``path`` holds (:func:`source_of`) with the
+    engine, keeping every control step."""
+    src = source_of(path)
+    record = ("qpos",) if src.memory_names is None else ("qpos", "memory")
+    res = rollout(
+        src.controller,
+        src.params,
+        src.starts,
+        src.n_steps,
+        model_params=src.model_params,
+        record=record,
+        backend=backend,
+    )
+    captions = None
+    if src.memory_names is not None:
+        captions = np.array(src.memory_names)[res["memory"][:, :, 0].astype(int)]
+    return Playback(src.model_params, res["qpos"], src.labels, captions, src.title)
+
+
+def make_renderer(m: mujoco.MjModel, width: int, height: int) -> mujoco.Renderer:
+    """An offscreen renderer, or :class:`RenderUnavailable` saying what is missing."""
+    try:
+        return mujoco.Renderer(m, height=height, width=width)
+    except Exception as e:  # GL back ends fail in many ways (ImportError, ...)
+        gl = os.environ.get("MUJOCO_GL", "glfw")
+        msg = str(e).splitlines()[0] if str(e) else type(e).__name__
+        raise RenderUnavailable(
+            f"cannot render offscreen with MUJOCO_GL={gl} ({msg}); headless Linux "
+            "needs the Debian package libegl1 (MUJOCO_GL=egl) or libosmesa6 "
+            "(MUJOCO_GL=osmesa), set before mujoco is first imported"
+        ) from None
+
+
+def _font(size: int):
+    from PIL import ImageFont
+
+    try:
+        return ImageFont.load_default(size=size)
+    except TypeError:  # Pillow < 10.1: fixed-size bitmap font
+        return ImageFont.load_default()
+
+
+def _caption(img: np.ndarray, lines: list[str], font) -> np.ndarray:
+    from PIL import Image, ImageDraw
+
+    im = Image.fromarray(img)
+    draw = ImageDraw.Draw(im)
+    y = 4
+    for line in lines:
+        draw.text((6, y), line, fill=(255, 255, 255), font=font, stroke_width=2,
+                  stroke_fill=(0, 0, 0))  # fmt: skip
+        y += int(font.size * 1.25) if hasattr(font, "size") else 14
+    return np.asarray(im)
+
+
+def frames(
+    pb: Playback,
+    *,
+    fps: float = 60.0,
+    camera: str = names.CAMERA_TRACK,
+    size: tuple[int, int] | None = None,
+) -> Iterator[np.ndarray]:
+    """RGB frames (h, w * k, 3) of ``pb`` at ``fps``, episodes side by side."""
+    if camera not in CAMERAS:
+        raise UserError(f"unknown camera {camera!r}; one of {', '.join(CAMERAS)}")
+    if not 0 < fps <= 1 / CONTROL_DT:
+        raise UserError(f"fps must be in (0, {1 / CONTROL_DT:g}], got {fps:g}")
+    k = pb.qpos.shape[0]
+    width, height = size or ((640, 480) if k == 1 else TILE)
+    m = lm.load_model(pb.model_params)
+    d = mujoco.MjData(m)
+    renderer = make_renderer(m, width, height)
+    font = _font(max(12, height // 20))
+    n_frames = int(pb.n_steps * CONTROL_DT * fps) + 1
+    try:
+        for f in range(n_frames):
+            t = min(round(f / (fps * CONTROL_DT)), pb.n_steps)
+            tiles = []
+            for e in range(k):
+                d.qpos[:] = pb.qpos[e, t]
+                mujoco.mj_forward(m, d)
+                renderer.update_scene(d, camera=camera)
+                lines = [f"{pb.labels[e]}  t = {t * CONTROL_DT:5.2f} s"]
+                if pb.captions is not None:
+                    lines.append(f"active: {pb.captions[e, t]}")
+                tiles.append(_caption(renderer.render(), lines, font))
+            yield np.concatenate(tiles, axis=1)
+    finally:
+        renderer.close()
+
+
+def check_video_path(out: Path, *, force: bool = False) -> None:
+    """One-line errors for an unsupported extension or an existing file."""
+    if out.suffix.lower() not in VIDEO_SUFFIXES:
+        raise UserError(
+            f"{out}: unsupported video extension {out.suffix or '(none)'!r}; "
+            f"use {' or '.join(VIDEO_SUFFIXES)}"
+        )
+    if out.exists() and not force:
+        raise UserError(f"{out} exists; use --force to overwrite it")
+    if not out.parent.is_dir():
+        raise UserError(f"{out.parent}: no such directory")
+
+
+def _writer(path: Path, fps: float):
+    try:
+        import imageio.v2 as iio
+    except ImportError:
+        raise RenderUnavailable(
+            "video encoding needs imageio: pip install 'locustjump[video]'"
+        ) from None
+    if path.suffix.lower() == ".gif":
+        return iio.get_writer(path, mode="I", duration=1000.0 / fps, loop=0)
+    try:
+        import imageio_ffmpeg  # noqa: F401
+    except ImportError:
+        raise RenderUnavailable(
+            "mp4 needs imageio-ffmpeg: pip install 'locustjump[video]' (or use .gif)"
+        ) from None
+    return iio.get_writer(
+        path, fps=fps, codec="libx264", quality=7, macro_block_size=16,
+        ffmpeg_log_level="error",
+    )  # fmt: skip
+
+
+def render_video(
+    pb: Playback,
+    out: str | os.PathLike,
+    *,
+    fps: float = 60.0,
+    camera: str = names.CAMERA_TRACK,
+    force: bool = False,
+    progress: Callable[[int], None] | None = None,
+) -> Path:
+    """Encode ``pb`` into ``out`` (``.mp4`` or ``.gif``), written atomically."""
+    out = Path(out)
+    check_video_path(out, force=force)
+    # GIF (256 colours, no inter-frame compression) is large: smaller frames
+    size = TILE if out.suffix.lower() == ".gif" else None
+    it = frames(pb, fps=fps, camera=camera, size=size)
+    first = next(it)  # fails early (renderer) before a file is opened
+    with rundir.atomic_path(out, partial=".partial") as tmp, _writer(tmp, fps) as w:
+        w.append_data(first)
+        for n, frame in enumerate(it, start=2):
+            w.append_data(frame)
+            if progress is not None:
+                progress(n)
+    return out
+
+
+def render_run(
+    path: str | os.PathLike,
+    out: str | os.PathLike | None = None,
+    *,
+    fps: float = 60.0,
+    camera: str = names.CAMERA_TRACK,
+    force: bool = False,
+    progress: bool = False,
+    backend: Backend | None = None,
+) -> Path:
+    """Video of what directory ``path`` holds (default ``path/video.mp4``)."""
+    out = Path(path) / rundir.VIDEO if out is None else Path(out)
+    check_video_path(out, force=force)
+    if camera not in CAMERAS:
+        raise UserError(f"unknown camera {camera!r}; one of {', '.join(CAMERAS)}")
+    pb = playback_of(path, backend=backend)
+    inside = Path(out).resolve().parent == Path(path).resolve()
+    with rundir.locked(path) if inside else contextlib.nullcontext():
+        return _encode(pb, out, fps, camera, force, progress)
+
+
+def _encode(
+    pb: Playback, out: Path, fps: float, camera: str, force: bool, progress: bool
+) -> Path:
+    if not progress:
+        return render_video(pb, out, fps=fps, camera=camera, force=force)
+    from tqdm import tqdm
+
+    total = int(pb.n_steps * CONTROL_DT * fps) + 1
+    with tqdm(total=total, unit="frame", desc=f"render {out.name}") as bar:
+        return render_video(
+            pb, out, fps=fps, camera=camera, force=force,
+            progress=lambda n: bar.update(n - bar.n),
+        )  # fmt: skip
+
+
+def view(path: str | os.PathLike, *, duration: float | None = None) -> None:
+    """Play what ``path`` holds live in MuJoCo's interactive viewer: the
+    controller acts every 1/120 s of simulated time, in real time, looping over
+    the start states until the window is closed (or ``duration`` seconds have
+    passed). Drag the body with the mouse to perturb it."""
+    if sys.platform.startswith("linux") and not (
+        os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")
+    ):
+        raise UserError(
+            "no display (DISPLAY is not set): the viewer needs a desktop session; "
+            "use `locustjump render` to make a video instead"
+        )
+    src = source_of(path)
+    import mujoco.viewer
+
+    ep = Episode(src.model_params)
+    ep.reset(src.starts, 0)
+    before = set(threading.enumerate())
+    try:
+        handle = mujoco.viewer.launch_passive(ep.model, ep.data)
+    except Exception as e:
+        raise UserError(f"cannot open the MuJoCo viewer: {e}") from None
+    end = None if duration is None else time.perf_counter() + duration
+    try:
+        _play(handle, ep, src, end)
+    finally:
+        handle.close()
+        # let the viewer's thread tear its window down before the interpreter
+        # does (GLFW's atexit terminate racing it crashes or hangs)
+        for th in set(threading.enumerate()) - before:
+            th.join(timeout=10)
+
+
+def _play(handle, ep: Episode, src: Source, end: float | None) -> None:
+    ctl = src.controller
+    prepared = ctl.prepare(src.params)
+    with handle as v:
+        with v.lock():  # follow the body, from the side, 3 body lengths away
+            v.cam.type = mujoco.mjtCamera.mjCAMERA_TRACKING
+            v.cam.trackbodyid = ep.model.body(names.BODY).id
+            v.cam.distance = 3 * src.model_params.body_length
+            v.cam.azimuth, v.cam.elevation = 90.0, -10.0
+        while v.is_running():
+            for e in range(len(src.starts)):
+                with v.lock():
+                    obs = ep.reset(src.starts, e)
+                memory = np.zeros((1, ctl.memory_size))
+                for t in range(src.n_steps):
+                    start = time.perf_counter()
+                    if not v.is_running() or (end is not None and start > end):
+                        return
+                    deltas, memory = ctl.act(
+                        prepared, memory, obs, ep.data.ctrl[None], t
+                    )
+                    with v.lock():
+                        obs = ep.step(deltas)
+                    v.sync()
+                    if ep.unstable:
+                        break
+                    time.sleep(max(0.0, CONTROL_DT - (time.perf_counter() - start)))

@@ -1,0 +1,271 @@
+"""``DIR/report.html``: one self-contained page about a run or a reproduction.
+
+Everything is embedded (figures as PNG data URIs, the video as an MP4/GIF data
+URI, no script or style from the network), so the file can be mailed or
+archived on its own. A training run's page holds its config, a summary of
+``metrics.csv``, the fitness curves, the behaviour metrics of its best genome
+(re-simulated and checked against the recorded fitness), its figures and its
+video; a reproduction's page holds ``results.md`` (the table against the
+paper) and a section per stage.
+"""
+
+from __future__ import annotations
+
+import base64
+import csv
+import html
+import json
+import os
+import re
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from locustjump import rundir
+from locustjump.errors import UserError
+
+if TYPE_CHECKING:
+    from locustjump.sim.engine.backends import Backend
+_MIME = {".png": "image/png", ".gif": "image/gif", ".mp4": "video/mp4"}
+
+_STYLE = """
+body { font: 15px/1.45 system-ui, sans-serif; max-width: 1100px; margin: 2em auto;
+       padding: 0 1em; color: #222; }
+h1, h2, h3 { line-height: 1.2; }
+table { border-collapse: collapse; margin: 0.8em 0; font-size: 14px; }
+th, td { border: 1px solid #ccc; padding: 0.25em 0.6em; text-align: left;
+         vertical-align: top; }
+th { background: #f2f2f2; }
+pre { background: #f6f6f6; padding: 0.8em; overflow-x: auto; font-size: 13px; }
+img, video { max-width: 100%; height: auto; display: block; margin: 0.6em 0; }
+code { background: #f2f2f2; padding: 0 0.2em; }
+footer { color: #777; font-size: 13px; margin-top: 3em; }
+"""
+
+# Sets <body data-images="loaded/total"> once the page has loaded, so a
+# headless browser can check that every embedded image decodes.
+_CHECK = """
+window.addEventListener("load", () => {
+  const imgs = Array.from(document.images);
+  const ok = imgs.filter((i) => i.complete && i.naturalWidth > 0).length;
+  document.body.dataset.images = ok + "/" + imgs.length;
+});
+"""
+
+
+def _data_uri(path: Path) -> str:
+    mime = _MIME[path.suffix.lower()]
+    return f"data:{mime};base64,{base64.b64encode(path.read_bytes()).decode()}"
+
+
+def _figure(path: Path, caption: str = "") -> str:
+    if path.suffix.lower() == ".mp4":
+        media = f'<video controls loop muted src="{_data_uri(path)}"></video>'
+    else:
+        media = f'<img alt="{html.escape(caption)}" src="{_data_uri(path)}">'
+    cap = f"<figcaption>{html.escape(caption)}</figcaption>" if caption else ""
+    return f"<figure>{media}{cap}</figure>"
+
+
+def _inline(text: str) -> str:
+    """`code`, **bold** and [links](to) of one line of Markdown, HTML-escaped;
+    a link to a ``results.md`` goes to the ``report.html`` beside it."""
+    out = html.escape(text, quote=False)
+    out = re.sub(r"`([^`]+)`", r"<code>\1</code>", out)
+    out = re.sub(
+        r"\[([^\]]+)\]\(([^)\s]+)\)",
+        lambda m: f'<a href="{html.escape(_html_twin(m.group(2)))}">{m.group(1)}</a>',
+        out,
+    )
+    return re.sub(r"\*\*([^*]+)\*\*", r"<strong>\1</strong>", out)
+
+
+def _html_twin(href: str) -> str:
+    if href.endswith(rundir.RESULTS):
+        return href[: -len(rundir.RESULTS)] + rundir.REPORT
+    return href
+
+
+def markdown_to_html(text: str, base: Path) -> str:
+    """The Markdown subset that :func:`locustjump.runs.reproduce.results_markdown`
+    writes (headings, paragraphs, pipe tables, images), images embedded from
+    paths relative to ``base``."""
+    out: list[str] = []
+    lines = text.splitlines()
+    i = 0
+    while i < len(lines):
+        line = lines[i].rstrip()
+        if not line:
+            i += 1
+        elif m := re.fullmatch(r"(#{1,6}) (.*)", line):
+            n = len(m.group(1))
+            out.append(f"<h{n}>{_inline(m.group(2))}</h{n}>")
+            i += 1
+        elif m := re.fullmatch(r"!\[([^\]]*)\]\(([^)]+)\)", line):
+            path = base / m.group(2)
+            if path.is_file() and path.suffix.lower() in _MIME:
+                out.append(_figure(path, m.group(1)))
+            else:
+                out.append(f"<p>(missing figure {html.escape(m.group(2))})</p>")
+            i += 1
+        elif line.startswith("|"):
+            rows = []
+            while i < len(lines) and lines[i].startswith("|"):
+                cells = [c.strip() for c in lines[i].strip().strip("|").split("|")]
+                if not all(re.fullmatch(r":?-+:?", c) for c in cells):
+                    rows.append(cells)
+                i += 1
+            head, *body = rows
+            out.append("<table><thead><tr>")
+            out += [f"<th>{_inline(c)}</th>" for c in head]
+            out.append("</tr></thead><tbody>")
+            for r in body:
+                out.append("<tr>" + "".join(f"<td>{_inline(c)}</td>" for c in r))
+                out.append("</tr>")
+            out.append("</tbody></table>")
+        else:
+            para = []
+            while (
+                i < len(lines)
+                and lines[i].strip()
+                and not re.match(r"(#{1,6} |!\[|\|)", lines[i])
+            ):
+                para.append(lines[i].strip())
+                i += 1
+            out.append(f"<p>{_inline(' '.join(para))}</p>")
+    return "\n".join(out)
+
+
+def _table(d: dict[str, Any]) -> str:
+    rows = []
+    for k, v in d.items():
+        if isinstance(v, float):
+            text = f"{v:.6g}"
+        elif isinstance(v, dict | list):
+            text = json.dumps(v)
+        else:
+            text = str(v)
+        rows.append(f"<tr><th>{html.escape(k)}</th><td>{html.escape(text)}</td></tr>")
+    return "<table>" + "".join(rows) + "</table>"
+
+
+def _videos(d: Path) -> list[Path]:
+    return sorted(p for p in d.glob("*") if p.suffix.lower() in (".mp4", ".gif"))
+
+
+def _figures(d: Path) -> list[Path]:
+    found = []
+    for sub in (rundir.EVAL, rundir.SWEEP):
+        if (d / sub).is_dir():
+            found += sorted((d / sub).glob("*.png"))
+    return found
+
+
+def _run_section(d: Path, metrics: dict[str, Any] | None, level: int = 2) -> str:
+    """The part of the page about training run ``d``."""
+    h = f"h{level}"
+    parts = [f"<{h}>Configuration</{h}>"]
+    parts.append(f"<pre>{html.escape((d / rundir.CONFIG).read_text())}</pre>")
+    if (d / rundir.METRICS).is_file():
+        with open(d / rundir.METRICS, newline="") as f:
+            rows = list(csv.DictReader(f))
+        if rows:
+            last = rows[-1]
+            parts.append(f"<{h}>Training</{h}>")
+            parts.append(
+                _table(
+                    {
+                        "generations": int(last["generation"]),
+                        "best fitness (last generation)": float(last["best"]),
+                        "population mean (last generation)": float(last["mean"]),
+                        "wall time (s)": round(
+                            sum(float(r["wall_s"]) for r in rows), 1
+                        ),
+                        "control steps/s (last generation)": float(last["steps_per_s"]),
+                    }
+                )
+            )
+    fit = d / rundir.FITNESS_PNG
+    if fit.is_file():
+        parts.append(_figure(fit, "best and mean fitness per generation"))
+    if metrics is not None:
+        parts.append(f"<{h}>Best controller</{h}>")
+        parts.append(_table(metrics))
+    figs = _figures(d)
+    if figs:
+        parts.append(f"<{h}>Figures</{h}>")
+        parts += [_figure(f, f.name) for f in figs]
+    vids = _videos(d)
+    if vids:
+        parts.append(f"<{h}>Video</{h}>")
+        parts += [_figure(v, v.name) for v in vids]
+    return "\n".join(parts)
+
+
+def _page(title: str, body: str, *, heading: bool = True) -> str:
+    from locustjump import __version__
+
+    return f"""<!DOCTYPE html>
+<html lang="en">
+<head>
+<meta charset="utf-8">
+<meta name="viewport" content="width=device-width, initial-scale=1">
+<title>{html.escape(title)}</title>
+<style>{_STYLE}</style>
+<script>{_CHECK}</script>
+</head>
+<body>
+{f"<h1>{html.escape(title)}</h1>" if heading else ""}
+{body}
+<footer>Written by <code>locustjump report</code> (locustjump {__version__}).
+Self-contained: no network needed.</footer>
+</body>
+</html>
+"""
+
+
+def write_report(path: str | os.PathLike, *, backend: Backend | None = None) -> Path:
+    """Write ``path/report.html`` for a training run or a reproduction
+    (rewritten on every call: it holds derived content only)."""
+    from locustjump.present.evaluate import evaluate_run
+
+    d = Path(path)
+    if not d.is_dir():
+        raise UserError(f"{d}: no such directory")
+    if rundir.is_multiseed(d):
+        if not (d / rundir.RESULTS).is_file():
+            raise UserError(f"{d}: the reproduction has no {rundir.RESULTS} yet")
+        body = [markdown_to_html((d / rundir.RESULTS).read_text(), d)]
+        title = f"locustjump reproduction over seeds: {d.name}"
+    elif rundir.is_reproduction(d):
+        if not (d / rundir.RESULTS).is_file():
+            raise UserError(f"{d}: the reproduction has no {rundir.RESULTS} yet")
+        body = [markdown_to_html((d / rundir.RESULTS).read_text(), d)]
+        for stage in sorted(p for p in d.iterdir() if rundir.is_run(p)):
+            mfile = rundir.eval_metrics_path(stage)
+            metrics = rundir.read_json(mfile) if mfile.is_file() else None
+            body.append(f"<h2>Stage {html.escape(stage.name)}</h2>")
+            body.append(_run_section(stage, metrics, level=3))
+        rules = d / rundir.RULES_DIR
+        rules_videos = _videos(rules) if rules.is_dir() else []
+        if rules_videos:
+            body.append("<h2>Rule-based baseline</h2>")
+            body += [_figure(v, v.name) for v in rules_videos]
+        title = f"locustjump reproduction: {d.name}"
+    elif rundir.is_run(d):
+        ev = evaluate_run(d, backend=backend)
+        metrics = {
+            "re-simulated fitness": ev.fitness,
+            "recorded fitness": ev.recorded_fitness,
+            "matches": ev.matches,
+            **ev.metrics,
+        }
+        body = [_run_section(d, metrics)]
+        title = f"locustjump run: {d.name} ({ev.behaviour})"
+    else:
+        raise UserError(f"{d}: holds no run (no {rundir.CONFIG}) and no reproduction")
+    out = d / rundir.REPORT
+    # a reproduction's results.md brings its own heading
+    heading = not (rundir.is_reproduction(d) or rundir.is_multiseed(d))
+    with rundir.locked(d):
+        rundir.atomic_write_text(out, _page(title, "\n".join(body), heading=heading))
+    return out

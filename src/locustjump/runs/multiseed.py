@@ -1,0 +1,313 @@
+"""The whole paper over several seeds, on this machine or a Ray cluster.
+
+A reproduction over seeds is a directory (names in :mod:`locustjump.rundir`)::
+
+    DIR/seeds.toml      budget, optimizer, seeds, command
+    DIR/seed-<s>/       one reproduction per seed, the same as
+                        ``locustjump reproduce --seed s --out DIR/seed-<s>``
+    DIR/results.md      per claim: median, range, how many seeds reproduce it;
+                        per-stage fitness; per-seed tables
+    DIR/report.html
+
+With the thread backend the seeds run one after another. With Ray every
+(seed, stage) is a task that starts as soon as its inputs exist: the rule-based
+run, kick, getup, return-legs and the monolithic baseline of every seed at
+once, each seed's composed stage when its three simple stages are done. A task
+asks Ray for ``threads`` CPUs (default: the CPUs of the cluster's smallest
+node) and steps its episodes on as many threads. Results are the same either
+way, bit for bit: a stage's result depends on its seed and budget only.
+
+Rerunning the same command continues: finished stages are kept, interrupted
+ones resume from their checkpoints. On a cluster ``DIR`` must be on a file
+system every node sees (the tasks write their stages there).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import re
+import time
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from locustjump import rundir
+from locustjump.errors import UserError
+from locustjump.evo import params_class
+from locustjump.present.results import minutes
+from locustjump.runs.reproduce import (
+    TRAINED,
+    Budget,
+    budget_of,
+    check_reproduction,
+    finish_reproduction,
+    reproduce,
+    run_stage,
+    single_seed_command,
+    stage_done,
+    stages_of,
+    start_reproduction,
+)
+from locustjump.sim import model as lm
+from locustjump.tasks import behaviour_class
+
+if TYPE_CHECKING:
+    from locustjump.sim.engine.backends import Backend
+
+_SEEDS = re.compile(r"^\d+(-\d+)?$")
+#: the most seeds one command takes (a typo like 0-99999 is caught)
+MAX_SEEDS = 1000
+
+
+def parse_seeds(text: str) -> list[int]:
+    """``"0-9"``, ``"0,3,7"``, ``"0-4,10"`` → the seeds, in order.
+
+    ``ValueError`` (with a message naming the problem) for anything else, an
+    empty list, a seed given twice or more than :data:`MAX_SEEDS` seeds."""
+    seeds: list[int] = []
+    for part in text.replace(" ", "").split(","):
+        if not _SEEDS.match(part):
+            raise ValueError(
+                f"{text!r}: expected seeds like 0-9 or 0,3,7 (non-negative "
+                f"integers and ranges), not {part!r}"
+            )
+        lo, _, hi = part.partition("-")
+        a, b = int(lo), int(hi or lo)
+        if b < a:
+            raise ValueError(f"{text!r}: the range {part} is empty")
+        if b - a + len(seeds) >= MAX_SEEDS:
+            raise ValueError(f"{text!r}: more than {MAX_SEEDS} seeds")
+        seeds += range(a, b + 1)
+    repeated = sorted({s for s in seeds if seeds.count(s) > 1})
+    if repeated:
+        raise ValueError(f"{text!r}: seed {repeated[0]} is given twice")
+    return seeds
+
+
+def _check_dir(out: Path, want: dict[str, Any]) -> None:
+    if out.exists() and not out.is_dir():
+        raise UserError(f"--out {out}: exists and is not a directory")
+    if rundir.is_multiseed(out):
+        have = rundir.read_toml(out / rundir.SEEDS_MARKER)
+        for k, v in want.items():
+            if have.get(k) != v:
+                raise UserError(
+                    f"--out {out}: holds a reproduction over seeds with {k} "
+                    f"{have.get(k)!r}, not {v!r} (choose another --out)"
+                )
+    elif rundir.is_reproduction(out):
+        raise UserError(
+            f"--out {out}: holds a single-seed reproduction; give --seeds another "
+            "--out (or continue this one with --seed)"
+        )
+    elif out.is_dir() and any(out.iterdir()):
+        raise UserError(
+            f"--out {out}: directory is not empty and holds no reproduction "
+            f"(no {rundir.SEEDS_MARKER}); choose another --out"
+        )
+
+
+def reproduce_seeds(
+    out: str | os.PathLike,
+    seeds: Sequence[int],
+    *,
+    budget: str | Budget = "quick",
+    optimizer: str = "rcga",
+    engine: str | None = None,
+    backend: str = "threads",
+    threads: int | None = None,
+    address: str | None = None,
+    progress: bool = True,
+    log: Callable[[str], None] = print,
+    command: str = "",
+    videos: bool = True,
+    monolithic: bool = True,
+) -> Path:
+    """Run (or continue) the whole paper for every seed in ``seeds`` into
+    ``out/seed-<s>/``; write ``out/results.md`` across seeds (also after every
+    finished seed) and ``out/report.html``; return the path of ``results.md``.
+
+    ``backend`` is ``"threads"`` (here, seed after seed, ``threads`` threads)
+    or ``"ray"`` (every stage a task on the cluster at ``address``, default a
+    local instance, ``threads`` CPUs each). ``engine``: as for
+    :func:`~locustjump.runs.reproduce.reproduce`. A rerun may add seeds."""
+    b = budget_of(budget)
+    params_class(optimizer)
+    seeds = [int(s) for s in seeds]
+    if not seeds or len(set(seeds)) != len(seeds) or min(seeds) < 0:
+        raise UserError(f"--seeds: need distinct non-negative seeds, got {seeds}")
+    if backend not in ("threads", "ray"):
+        raise UserError(f"unknown backend {backend!r}; choose from threads, ray")
+    out = Path(out)
+    if engine is None and rundir.is_multiseed(out):
+        engine = rundir.read_toml(out / rundir.SEEDS_MARKER).get("engine")
+    engine = engine or lm.LocustParams().engine
+    want = {"budget": b.name, "optimizer": optimizer, "engine": engine,
+            "population": b.population}  # fmt: skip
+    _check_dir(out, want)
+    for s in seeds:
+        check_reproduction(rundir.seed_dir(out, s), b, s, optimizer, engine)
+    ray = None
+    if backend == "ray":
+        from locustjump.sim.engine.ray_backend import connect
+
+        ray = connect(address)
+        threads = _task_threads(ray, threads)
+    from locustjump.sim.engine.backends import ThreadBackend
+
+    here = ThreadBackend(threads)
+    old = (
+        rundir.read_toml(out / rundir.SEEDS_MARKER)["seeds"]
+        if rundir.is_multiseed(out)
+        else []
+    )
+    out.mkdir(parents=True, exist_ok=True)
+    with contextlib.ExitStack() as held:
+        held.enter_context(rundir.locked(out))
+        _check_dir(out, want)
+        from locustjump import __version__
+
+        rundir.write_toml(
+            out / rundir.SEEDS_MARKER,
+            {
+                **want,
+                "seeds": sorted({*old, *seeds}),
+                "generations": {s: b.of(s) for s in TRAINED},
+                "command": command
+                or f"locustjump reproduce --budget {b.name} --seeds "
+                f"{','.join(map(str, seeds))} --out {out}",
+                "locustjump": __version__,
+            },
+        )
+        dirs = {s: rundir.seed_dir(out, s) for s in seeds}
+        for s, d in dirs.items():
+            d.mkdir(exist_ok=True)
+            held.enter_context(rundir.locked(d))
+            alone = single_seed_command(b.name, s, optimizer, d, engine)
+            start_reproduction(d, b, s, optimizer, alone, engine)
+        if ray is None:
+            for i, (s, d) in enumerate(dirs.items(), 1):
+                log(f"[seed {s}] {i} of {len(dirs)} seeds, on this machine")
+                reproduce(
+                    d, budget=b, seed=s, optimizer=optimizer, backend=here,
+                    progress=progress, log=lambda m, s=s: log(f"[seed {s}] {m}"),
+                    videos=videos, monolithic=monolithic,
+                )  # fmt: skip
+                _write_results(out, here)
+        else:
+            _run_on_ray(ray, out, dirs, b, optimizer, threads, monolithic,
+                        here, progress, log, videos)  # fmt: skip
+        path = _write_results(out, here)
+        log(f"wrote {path} and {out / rundir.REPORT}")
+        return path
+
+
+def _task_threads(ray: Any, threads: int | None) -> int:
+    """CPUs (and simulation threads) per stage task: default and limit are
+    the CPUs of the smallest and of the largest node."""
+    cpus = [
+        int(n["Resources"].get("CPU", 0))
+        for n in ray.nodes()
+        if n.get("Alive") and n["Resources"].get("CPU", 0) >= 1
+    ]
+    if not cpus:
+        raise UserError("the Ray cluster has no node with a CPU")
+    if threads is None:
+        return min(cpus)
+    if threads > max(cpus):
+        raise UserError(
+            f"--threads {threads}: the largest node of the Ray cluster has "
+            f"{max(cpus)} CPUs"
+        )
+    return threads
+
+
+def _stage_task(
+    out: str,
+    stage: str,
+    b: Budget,
+    seed: int,
+    optimizer: str,
+    threads: int,
+    *_inputs: Any,
+) -> tuple[float | None, float]:
+    """One (seed, stage) on a Ray worker; ``_inputs`` are the tasks it waits for."""
+    from locustjump.sim.engine.backends import ThreadBackend
+
+    d = Path(out)
+    if not rundir.is_reproduction(d):
+        raise UserError(
+            f"{d}: not visible on this node (on a cluster, --out must be on a "
+            "file system every node sees)"
+        )
+    t0 = time.perf_counter()
+    fitness = run_stage(d, stage, b, seed, optimizer, ThreadBackend(threads),
+                        log=lambda m: None)  # fmt: skip
+    return fitness, time.perf_counter() - t0
+
+
+def _run_on_ray(ray, out, dirs, b, optimizer, threads, monolithic, here,
+                progress, log, videos) -> None:  # fmt: skip
+    task = ray.remote(num_cpus=threads)(_stage_task)
+    pending: dict[Any, tuple[int, str]] = {}
+    left = {s: 0 for s in dirs}
+    for s, d in dirs.items():
+        refs: dict[str, Any] = {}
+        for stage in stages_of(monolithic):
+            if stage_done(d, stage, b):
+                continue
+            needs = [refs[r] for r in _requires(stage) if r in refs]
+            refs[stage] = task.remote(str(d), stage, b, s, optimizer, threads, *needs)
+            pending[refs[stage]] = (s, stage)
+            left[s] += 1
+    from tqdm.auto import tqdm
+
+    log(
+        f"{len(pending)} stage tasks over {len(dirs)} seeds on Ray "
+        f"({threads} CPUs each)"
+    )
+    bar = tqdm(total=len(pending), desc="stages", unit="stage", disable=not progress)
+    done_seeds = [s for s, n in left.items() if n == 0]
+    try:
+        while pending or done_seeds:
+            for s in done_seeds:
+                tagged = lambda m, s=s: log(f"[seed {s}] {m}")  # noqa: E731
+                finish_reproduction(dirs[s], backend=here, videos=videos, log=tagged)
+                _write_results(out, here)
+            done_seeds = []
+            if not pending:
+                break
+            ready, _ = ray.wait(list(pending), num_returns=1)
+            s, stage = pending.pop(ready[0])
+            try:
+                fitness, wall = ray.get(ready[0])
+            except ray.exceptions.RayTaskError as e:
+                cause = getattr(e, "cause", None) or e
+                raise UserError(f"[seed {s}] {stage}: {cause}") from None
+            bar.update()
+            shown = "" if fitness is None else f"best fitness {fitness:.6g}, "
+            with tqdm.external_write_mode():  # the line above the bar
+                log(f"[seed {s}] {stage}: {shown}{minutes(wall)}")
+            left[s] -= 1
+            if left[s] == 0:
+                done_seeds.append(s)
+    finally:
+        bar.close()
+
+
+def _requires(stage: str) -> tuple[str, ...]:
+    """The stages ``stage`` builds on (none for the rule-based one)."""
+    if stage == rundir.RULES_DIR:
+        return ()
+    return tuple(behaviour_class(stage).requires)
+
+
+def _write_results(out: Path, backend: Backend) -> Path:
+    from locustjump.present.report import write_report
+    from locustjump.present.results import seeds_markdown
+
+    path = out / rundir.RESULTS
+    rundir.atomic_write_text(path, seeds_markdown(out))
+    write_report(out, backend=backend)
+    return path

@@ -1,0 +1,304 @@
+"""Training: an optimizer evolves a behaviour's controllers into a run directory.
+
+The loop is the EvoJAX ``Trainer(policy, solver, task)`` shape: the optimizer
+(:mod:`locustjump.evo`) asks for genomes, the behaviour
+(:mod:`locustjump.tasks`) evaluates them on a backend
+(:mod:`~locustjump.sim.engine.backends`), the optimizer is told their
+fitness, and the run directory (:mod:`locustjump.rundir`) receives a
+metrics row, the best genome and a checkpoint every generation.
+
+Resuming from ``checkpoint.npz`` gives a bit-identical result to an
+uninterrupted run: the optimizer's whole state is in the checkpoint, the
+simulation is deterministic, and what the optimizer keeps (elites) keeps its
+fitness.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from locustjump import rundir
+from locustjump.errors import UserError
+from locustjump.evo import Optimizer, make_optimizer
+from locustjump.rundir import BestGenome, FrozenGenomes
+from locustjump.rundir.config import TrainConfig
+from locustjump.sim import model as lm
+from locustjump.tasks import Behaviour, behaviour_class, get_behaviour
+
+if TYPE_CHECKING:
+    from locustjump.sim.engine.backends import Backend
+
+
+@dataclass
+class TrainResult:
+    out: Path
+    generation: int  # generations completed
+    best: BestGenome
+    wall_s: float  # wall time of this call
+    stopped: str | None = None  # why the optimizer stopped before the budget
+
+
+class _Run:
+    """A run directory being trained: the optimizer plus its files."""
+
+    def __init__(self, out: Path, cfg: TrainConfig, behaviour: Behaviour):
+        self.out, self.cfg, self.beh = out, cfg, behaviour
+        self.num_params = behaviour.controller.num_params
+        self.hash = cfg.hash()
+        self.opt: Optimizer = make_optimizer(cfg.optimizer, self.num_params, cfg.seed)
+        self.best: BestGenome | None = None
+        self.metrics_row = ""  # of the checkpointed generation
+
+    def checkpoint(self, metrics_row: str) -> None:
+        assert self.best is not None
+        rundir.write_checkpoint(
+            self.out / rundir.CHECKPOINT,
+            self.cfg,
+            self.best,
+            metrics_row,
+            self.opt.state(),
+        )
+
+    def restore(self) -> None:
+        path = self.out / rundir.CHECKPOINT
+        self.best, self.metrics_row, state = rundir.read_checkpoint(
+            path, self.cfg, self.num_params
+        )
+        try:
+            self.opt.load_state(state)
+        except (ValueError, KeyError, TypeError) as e:
+            raise UserError(f"{path}: malformed checkpoint ({e})") from None
+
+
+def train(
+    cfg: TrainConfig,
+    out: str | os.PathLike,
+    *,
+    resume: bool = False,
+    backend: Backend | None = None,
+    progress: bool = True,
+    stop_after: int | None = None,
+    frozen: FrozenGenomes | None = None,
+) -> TrainResult:
+    """Evolve ``cfg.behaviour`` with ``cfg.optimizer`` into run directory ``out``.
+
+    Args:
+      cfg: the configuration; with ``resume`` it must equal the run's
+        ``config.toml`` except for ``generations`` (a run can be extended).
+      out: the run directory; a new run needs it absent or empty.
+      resume: continue the run in ``out`` from its checkpoint.
+      backend: where episodes run (default: a thread backend on every CPU).
+      progress: show a progress bar (on stderr).
+      stop_after: stop after this many generations in this call (the run stays
+        resumable; used to test interruption).
+      frozen: behaviours that build on other runs (composed): the frozen
+        genomes of those runs (required for a new run; on resume, if given,
+        they must be the run's own).
+
+    Returns:
+      The directory, the generations completed and the best genome.
+    """
+    out = Path(out)
+    cls = behaviour_class(cfg.behaviour)
+    if cls.requires and frozen is not None:
+        if cfg.simple not in ("", frozen.digest):
+            raise UserError(
+                f"the frozen genomes (digest {frozen.digest}) are not the ones the "
+                f"configuration names ({cfg.simple})"
+            )
+        cfg = cfg.replace(simple=frozen.digest)
+    if backend is None:
+        from locustjump.sim.engine.backends import ThreadBackend
+
+        backend = ThreadBackend()
+    if resume:
+        if not rundir.is_run(out):
+            raise UserError(f"--resume: {out} holds no run (no {rundir.CONFIG})")
+        with rundir.locked(out):
+            run = _resume(out, cfg, bool(cls.requires))
+            return _loop(run, backend, progress, stop_after)
+    run = _check_new(out, cfg, cls, frozen)
+    out.mkdir(parents=True, exist_ok=True)
+    with rundir.locked(out):
+        _check_new(out, cfg, cls, frozen)  # another process may have been first
+        _create(run, frozen)
+        return _loop(run, backend, progress, stop_after)
+
+
+def _check_new(
+    out: Path, cfg: TrainConfig, cls: type, frozen: FrozenGenomes | None
+) -> _Run:
+    """Check everything a new run needs, writing nothing."""
+    if out.exists() and not out.is_dir():
+        raise UserError(f"--out {out}: exists and is not a directory")
+    if out.is_dir() and any(out.iterdir()):
+        what = "holds a run" if rundir.is_run(out) else "is not empty"
+        raise UserError(
+            f"--out {out}: directory {what} (use --resume to continue a run, or "
+            "choose another --out)"
+        )
+    if cls.requires and frozen is None:
+        raise UserError(
+            f"train {cfg.behaviour} needs the runs it builds on ("
+            + " ".join(f"--{r} DIR" for r in cls.requires)
+            + ")"
+        )
+    lm.check_model(cfg.model)
+    beh = get_behaviour(
+        cfg.behaviour, frozen.genomes if cls.requires else None, cfg.options
+    )
+    from locustjump.sim.engine.rollout import rollout_bytes
+    from locustjump.sim.resources import require_memory
+
+    require_memory(
+        rollout_bytes(
+            lm.load_model(cfg.model), cfg.population * len(beh.start_states(cfg.model)),
+            beh.n_steps, beh.record,
+        ),
+        f"population {cfg.population:,}: a generation",
+    )  # fmt: skip
+    run = _Run(out, cfg, beh)  # the controller and optimizer are checked here
+    try:  # the first genomes (ask() holds them until tell())
+        genomes = run.opt.ask()
+    except (ValueError, OverflowError, FloatingPointError) as e:
+        raise UserError(f"[optimizer]: cannot make the first genomes ({e})") from None
+    if not np.isfinite(genomes).all():
+        raise UserError("[optimizer]: the first genomes are not finite")
+    return run
+
+
+def _create(run: _Run, frozen: FrozenGenomes | None) -> None:
+    """The files of a new run directory."""
+    if run.beh.requires:
+        frozen.save(run.out / rundir.FROZEN)
+    rundir.write_config(run.out / rundir.CONFIG, run.cfg)
+    rundir.truncate_metrics(run.out / rundir.METRICS, 0, "")
+
+
+def _resume(out: Path, cfg: TrainConfig, builds_on: bool) -> _Run:
+    """Check that ``cfg`` continues the run in ``out``, restore it, and only
+    then record a changed budget."""
+    stored = rundir.load_config(out / rundir.CONFIG)
+    if builds_on and not cfg.simple:
+        cfg = cfg.replace(simple=stored.simple)
+    if stored.behaviour != cfg.behaviour:
+        raise UserError(
+            f"--resume: {out} holds a {stored.behaviour!r} run, not {cfg.behaviour!r}"
+        )
+    if stored.optimizer.kind != cfg.optimizer.kind:
+        raise UserError(
+            f"--resume: {out} was trained with the {stored.optimizer.kind!r} "
+            f"optimizer, not {cfg.optimizer.kind!r}"
+        )
+    if stored.replace(generations=cfg.generations) != cfg:
+        mine, theirs = cfg.to_dict(), stored.to_dict()
+        diff = [k for k in mine if k != "generations" and mine[k] != theirs.get(k)]
+        raise UserError(
+            f"--resume: the options differ from {out / rundir.CONFIG} in "
+            f"{', '.join(diff)}"
+        )
+    run = _Run(out, cfg, rundir.behaviour_of(cfg, out))
+    if (out / rundir.CHECKPOINT).exists():
+        run.restore()
+    if cfg.generations < run.opt.generation:
+        raise UserError(
+            f"--generations {cfg.generations}: the run in {out} has already done "
+            f"{run.opt.generation} (a run can be extended, not shortened)"
+        )
+    rundir.truncate_metrics(out / rundir.METRICS, run.opt.generation, run.metrics_row)
+    if stored.generations != cfg.generations:
+        rundir.write_config(out / rundir.CONFIG, cfg)
+    return run
+
+
+def _loop(
+    run: _Run, backend: Backend, progress: bool, stop_after: int | None
+) -> TrainResult:
+    from tqdm.auto import tqdm
+
+    cfg, opt, beh, p = run.cfg, run.opt, run.beh, run.cfg.model
+    t_start = time.perf_counter()
+    bar = tqdm(
+        total=cfg.generations,
+        initial=opt.generation,
+        desc=f"{cfg.behaviour}",
+        unit="gen",
+        disable=not progress,
+        dynamic_ncols=True,
+    )
+    done = 0
+    stopped = opt.stop() if opt.generation else None
+    failed = True
+    metrics = run.out / rundir.METRICS
+    try:
+        while (
+            stopped is None
+            and opt.generation < cfg.generations
+            and (stop_after is None or done < stop_after)
+        ):
+            t0 = time.perf_counter()
+            x = opt.ask()
+            fit, res = beh.evaluate(x, p, backend=backend)
+            opt.tell(fit)
+            g = opt.generation
+            i = int(np.argmax(fit))
+            if run.best is None or fit[i] > run.best.fitness:
+                run.best = BestGenome(
+                    x[i].copy(), float(fit[i]), g, cfg.behaviour, run.hash
+                )
+                run.best.save(run.out / rundir.BEST)
+            f = opt.fitness
+            # floats as shortest round-trip text: the CSV holds exact values
+            row = [g, float(f[int(np.argmax(f))]), float(f.mean()), float(f.std())]
+            row += [len(x), res.control_steps]
+            # the checkpoint carries its own metrics row (a kill between the
+            # two writes loses nothing); wall time covers the whole
+            # generation but for this last small write
+            wall = time.perf_counter() - t0
+            run.checkpoint(rundir.metrics_line(row, wall, res.control_steps / wall))
+            wall = time.perf_counter() - t0
+            rate = res.control_steps / wall
+            # the checkpoint already holds this row: a failed append loses
+            # nothing (resume restores it)
+            rundir.append_line(metrics, rundir.metrics_line(row, wall, rate))
+            done += 1
+            stopped = opt.stop()
+            bar.set_postfix(
+                best=f"{row[1]:.4g}",
+                mean=f"{row[2]:.4g}",
+                steps_s=f"{rate:,.0f}",
+                refresh=False,
+            )
+            bar.update(1)
+        failed = False
+    finally:
+        bar.close()
+        if opt.generation > 0:
+            try:
+                fitness_figure(run.out)
+            except UserError:
+                if not failed:  # else the first error is the one to report
+                    raise
+    assert run.best is not None
+    return TrainResult(
+        run.out, opt.generation, run.best, time.perf_counter() - t_start, stopped
+    )
+
+
+def fitness_figure(out: Path) -> Path:
+    """``DIR/fitness.png`` from ``DIR/metrics.csv``."""
+    from locustjump.present.plots import fitness_curves
+
+    m = rundir.read_metrics(out / rundir.METRICS)
+    cfg = rundir.load_config(out / rundir.CONFIG)
+    path = out / rundir.FITNESS_PNG
+    fitness_curves(
+        path, m, title=f"{cfg.behaviour}: fitness per generation (seed {cfg.seed})"
+    )
+    return path

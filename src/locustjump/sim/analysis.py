@@ -1,0 +1,61 @@
+"""Behaviour metrics computed from recorded trajectories (pure functions)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from locustjump.sim import model as lm
+
+#: A jump is a stretch where the body centre is this many body lengths above
+#: its standing height.
+JUMP_THRESHOLD_BL = 0.1
+#: A bounce splits a high stretch into two jumps when z rises this many body
+#: lengths above the bounce on both sides.
+BOUNCE_PROMINENCE_BL = 0.2
+
+
+@dataclass(frozen=True)
+class Jump:
+    start: int  # control step the body rose above the threshold
+    apex_step: int
+    end: int
+    apex_height: float  # (m) body-centre height above the floor at the apex
+    apex_x: float  # (m) x at the apex
+    rise: float  # (m) apex height minus standing height
+
+
+def find_jumps(qpos: np.ndarray, p: lm.LocustParams = lm.LocustParams()) -> list[Jump]:
+    """Jumps of one trajectory ``qpos (T, nq)``.
+
+    A jump is a stretch where the body centre is more than ``JUMP_THRESHOLD_BL``
+    body lengths above its standing height. A stretch is split where the body
+    bounces off the ground without coming that low (landing on its legs or its
+    side): in flight z is concave, so a local minimum of z with at least
+    ``BOUNCE_PROMINENCE_BL`` of rise on both sides is a landing.
+    """
+    z = qpos[:, 2]
+    thr = JUMP_THRESHOLD_BL * p.body_length
+    prom = BOUNCE_PROMINENCE_BL * p.body_length
+    stand = lm.standing_height(p)
+    high = z > stand + thr
+    edges = np.diff(np.concatenate([[0], high.astype(int), [0]]))
+    starts, ends = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
+    bounds = []
+    for a, b in zip(starts, ends, strict=True):
+        s = a
+        seg = z[a:b]
+        minima = a + 1 + np.flatnonzero((seg[1:-1] < seg[:-2]) & (seg[1:-1] <= seg[2:]))
+        for k in minima:
+            if z[s:k].max() - z[k] > prom and z[k:b].max() - z[k] > prom:
+                bounds.append((s, k))
+                s = k
+        bounds.append((s, b))
+    jumps = []
+    for a, b in bounds:
+        k = a + int(np.argmax(z[a:b]))
+        jumps.append(
+            Jump(int(a), k, int(b), float(z[k]), float(qpos[k, 0]), float(z[k] - stand))
+        )
+    return jumps

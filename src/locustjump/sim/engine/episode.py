@@ -1,0 +1,111 @@
+"""One episode on one ``MjData``: the engine's control step, unbatched, and the
+plain reference loop the engine is tested against (bit for bit)."""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+
+from locustjump.sim import model as lm
+from locustjump.sim import sensors
+from locustjump.sim.engine.rollout import (
+    _UNSTABLE,
+    RolloutJob,
+    RolloutResult,
+    StartStates,
+    _Recorder,
+    observer,
+    record_shapes,
+)
+
+
+class Episode:
+    """One episode on one ``MjData``: the engine's control step, unbatched.
+
+    The same operations, in the same order, as a row of the engine, so the
+    results are bit-identical to it. Used by :func:`reference_rollout`, the
+    Gymnasium environments (:mod:`locustjump.envs`) and the viewer::
+
+        ep = Episode(LocustParams())
+        obs = ep.reset(starts, 0)            # (1, 9)
+        obs = ep.step(deltas)                # deltas (1, 4), radians
+        ep.unstable                          # the simulation went unstable
+    """
+
+    def __init__(self, model_params: lm.LocustParams = lm.LocustParams()):
+        self.params = model_params
+        self.model = lm.load_model(model_params)
+        self.data = mujoco.MjData(self.model)
+        self.index = lm.ModelIndex.of(self.model)
+        self._observe = observer(self.index, model_params)
+        self._touch = self.data.sensordata.copy()  # sensordata, max over substeps
+        self.unstable = False
+
+    def reset(self, starts: StartStates, i: int = 0) -> np.ndarray:
+        """Start from state ``i`` of ``starts``; the (1, 9) inputs there."""
+        m, d = self.model, self.data
+        mujoco.mj_resetData(m, d)
+        d.qpos[:], d.qvel[:], d.ctrl[:] = starts.qpos[i], starts.qvel[i], starts.ctrl[i]
+        mujoco.mj_forward(m, d)
+        self._touch[:] = d.sensordata
+        self.unstable = False
+        return self.observe()
+
+    def observe(self) -> np.ndarray:
+        """The (1, 9) paper inputs now (touch: over the last control step)."""
+        return self._observe(self.data.qpos[None], self._touch[None])
+
+    def step(self, deltas: np.ndarray) -> np.ndarray:
+        """One control step with target changes ``deltas`` (1, 4); the inputs
+        after it. Sets :attr:`unstable` (the state is then meaningless)."""
+        m, d = self.model, self.data
+        d.ctrl[:] = sensors.apply_deltas(d.ctrl[None], deltas, self.index.ranges)[0]
+        touch = self._touch
+        touch[:] = -np.inf
+        try:
+            for _ in range(self.params.substeps):
+                mujoco.mj_step(m, d)
+                np.maximum(touch, d.sensordata, out=touch)
+        except mujoco.FatalError:
+            self.unstable = True
+        if (
+            self.unstable
+            or any(
+                d.warning[w].number > 0 for w in range(_UNSTABLE.start, _UNSTABLE.stop)
+            )
+            or not np.isfinite(d.qpos).all()
+        ):
+            self.unstable = True
+        return self.observe()
+
+
+def reference_rollout(job: RolloutJob) -> RolloutResult:
+    """The plain, obviously-correct loop: one ``MjData`` per episode.
+
+    Slow; kept to test the engine against (same results, bit for bit).
+    """
+    ep = Episode(job.model_params)
+    ctl = job.controller
+    parts = []
+    for e in range(job.n_episodes):
+        obs = ep.reset(job.starts, e)
+        d = ep.data
+        prepared = ctl.prepare(job.params[e : e + 1])
+        memory = np.zeros((1, ctl.memory_size))
+        rec = _Recorder(
+            job.record, 1, job.n_steps, record_shapes(ep.model.nq, ctl.memory_size)
+        )
+        rec.write(0, d.qpos[None], obs, d.ctrl[None], memory)
+        steps = job.n_steps
+        for t in range(job.n_steps):
+            deltas, memory = ctl.act(prepared, memory, obs, d.ctrl[None], t)
+            obs = ep.step(deltas)
+            if ep.unstable:
+                steps = t + 1
+                rec.fill_from(t + 1)
+                break
+            rec.write(t + 1, d.qpos[None], obs, d.ctrl[None], memory)
+        parts.append(
+            RolloutResult(rec.arrays, np.array([ep.unstable]), np.array([steps]), steps)
+        )
+    return RolloutResult.concat(parts)

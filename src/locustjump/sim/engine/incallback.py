@@ -1,0 +1,397 @@
+"""The compiled path with no Python between substeps: each episode's
+controller runs inside MuJoCo's control callback (``mjcb_control``), on the
+batch's own C threads, and a whole rollout is one ``Batch.rollout`` call.
+
+Per simulation, the callback of every substep (MuJoCo calls it in
+``mj_forward``, after the position and velocity stages, before the actuator
+forces) keeps the maximum of the touch sensors; at the first substep of a
+control step it computes the 9 inputs of the state the previous control step
+left, records them, runs the episode's network and writes the new servo
+targets into that simulation's ``ctrl``. It calls the very kernels of
+:mod:`locustjump.sim.engine.kernels` on one episode's slices, so every number is the
+same as on the step-by-step compiled loop (:func:`~.compiled.run_compiled`),
+bit for bit (tested). The touch sensors are computed in ``mj_forward`` after the
+callback, so the callback of a substep sees those of the substep before it:
+the maximum over a control step's substeps is complete at the next control
+step's first callback, where it is used.
+
+What stays in Python, once a rollout: the start state's inputs and the first
+action, the last record, and the episodes that went unstable — MuJoCo resets
+a simulation's state when it detects a blow-up, before the callback could
+record the state that caused it, so those episodes (rare) are simulated
+again, alone, on the step-by-step loop, whose records and step counts are the
+reference. A MuJoCo error (not a warning) sends the whole rollout there.
+
+The callback finds its data through the simulation's ``userdata`` (the model
+has ``nuserdata = 3``: a marker, the address of the rollout's context, the
+episode's index); every other simulation in the process (no marker) is left
+alone. The offsets of the few ``mjData``/``mjModel`` fields it reads are
+literals here, checked at import against those :mod:`locustjump.sim.engine.mjlayout`
+computes for the running MuJoCo; where they differ, this path is unavailable
+and the step-by-step loop runs instead.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import threading
+import warnings
+
+import mujoco
+import numpy as np
+from mujoco.batch import Batch, SimulationError
+from numba import carray, cfunc, njit, types
+from numba.extending import intrinsic
+
+from locustjump.sim import model as lm
+from locustjump.sim.engine import kernels as K
+from locustjump.sim.engine import mjlayout
+from locustjump.sim.engine.compiled import _Step, run_compiled, start
+from locustjump.sim.engine.rollout import (
+    RECORDABLE,
+    RolloutJob,
+    RolloutResult,
+    _progress,
+)
+
+#: userdata[0] of a simulation this path drives
+MARKER = 20061110.0
+NUSERDATA = 3
+
+#: Offsets of mjData's qpos, ctrl, sensordata, userdata and warning and of
+#: mjModel's nuserdata in MuJoCo 4.0 (64-bit). Literals, so that the cached
+#: compiled callback and this source agree; checked against the running
+#: MuJoCo at import, and this path is off where they differ.
+_OFF_QPOS, _OFF_CTRL, _OFF_SENS, _OFF_USER, _OFF_WARN, _OFF_NUSER = (
+    160688, 160744, 160816, 160808, 160264, 736)  # fmt: skip
+#: SHA-256 of kernels.py, whose functions the cached compiled code below calls:
+#: Numba's cache notices changes to this file only, so a change there must
+#: change this line too (``tests/test_incallback.py`` says so, with the digest)
+KERNELS_SHA256 = "01bfc0355fa30eec3959c172545d9a7736a2d56113b67f476734aef9616c6c7a"
+
+
+def kernels_digest() -> str:
+    with open(K.__file__, "rb") as f:
+        return hashlib.sha256(f.read()).hexdigest()
+
+
+_LAYOUT = mjlayout.offsets(NUSERDATA) == (
+    _OFF_QPOS, _OFF_CTRL, _OFF_SENS, _OFF_USER, _OFF_WARN, _OFF_NUSER)  # fmt: skip
+AVAILABLE = _LAYOUT and kernels_digest() == KERNELS_SHA256
+if not AVAILABLE:
+    why = (
+        f"MuJoCo {mujoco.__version__}'s mjData layout is not the one the "
+        "in-callback engine was built for"
+        if not _LAYOUT
+        else "kernels.py changed since incallback.py was compiled against it "
+        "(KERNELS_SHA256)"
+    )
+    warnings.warn(
+        f"locustjump: {why}; the step-by-step compiled loop runs instead "
+        "(same results, slower)",
+        RuntimeWarning,
+        stacklevel=2,
+    )
+_NWARNING = int(mujoco.mjtWarning.mjNWARNING)
+
+
+@intrinsic
+def _address(typingctx, ptr):
+    """The address of a raw pointer, as an int64."""
+    if not isinstance(ptr, types.RawPointer):
+        return None
+
+    def codegen(context, builder, sig, args):
+        return builder.ptrtoint(args[0], context.get_value_type(types.int64))
+
+    return types.int64(ptr), codegen
+
+
+@intrinsic
+def _pointer(typingctx, addr):
+    """An int64 address as a void pointer."""
+    if not isinstance(addr, types.Integer):
+        return None
+
+    def codegen(context, builder, sig, args):
+        return builder.inttoptr(args[0], context.get_value_type(types.voidptr))
+
+    return types.voidptr(addr), codegen
+
+
+# --- the rollout's context: one int64 array of sizes and addresses ---------------
+
+# sizes
+(_KIND, _N, _T, _S, _NQ, _NS, _NU, _NMEM, _NTOUCH, _H, _C, _OUTPUT, _EVERY,
+ _SHARED) = range(14)  # fmt: skip
+# addresses
+(_BL, _COUNTER, _TMAX, _JOINTS, _TOUCH, _LO, _HI, _OBS, _DELTAS, _HIDDEN, _CHOICE,
+ _MEMORY, _RQ, _RO, _RC, _RM) = range(14, 30)  # fmt: skip
+#: the network's (mlp) or the switcher's w1 b1 w2 b2, then the switched nets',
+#: each (n, ...) per episode: address, then 5 dims
+_NET, _NET_ARRAYS = 30, 8
+_LEN = _NET + 6 * _NET_ARRAYS
+_MLP, _SWITCH = 1, 2
+
+
+@njit(inline="always")
+def _f64(addr, shape):
+    return carray(_pointer(addr), shape, np.float64)
+
+
+@njit(inline="always")
+def _i64(addr, shape):
+    return carray(_pointer(addr), shape, np.int64)
+
+
+@njit(inline="always")
+def _net3(ctx, k, e):
+    """Net array ``k`` of the context, episode ``e``'s (2-D) slice."""
+    a = _NET + 6 * k
+    return _f64(ctx[a], (ctx[a + 1], ctx[a + 2], ctx[a + 3]))[e]
+
+
+@njit(inline="always")
+def _net4(ctx, k, e):
+    a = _NET + 6 * k
+    return _f64(ctx[a], (ctx[a + 1], ctx[a + 2], ctx[a + 3], ctx[a + 4]))[e]
+
+
+@njit(inline="always")
+def _net5(ctx, k, e):
+    a = _NET + 6 * k
+    shape = (ctx[a + 1], ctx[a + 2], ctx[a + 3], ctx[a + 4], ctx[a + 5])
+    return _f64(ctx[a], shape)[e]
+
+
+@njit(inline="always")
+def _records(addr, n, T, k, e):
+    if addr == 0:
+        return np.empty((0, 0, 0))
+    return _f64(addr, (n, T + 1, k))[e : e + 1]
+
+
+@njit(cache=True, error_model="numpy")
+def _episode(ctx, e, t, qpos, ctrl):
+    """Control step ``t`` of episode ``e``: observe the state the previous
+    control step left, record row ``t``, run the network, actuate."""
+    n, T, nq, nu, nmem = ctx[_N], ctx[_T], ctx[_NQ], ctx[_NU], ctx[_NMEM]
+    tmax = _f64(ctx[_TMAX], (n, ctx[_NS]))[e : e + 1]
+    obs = _f64(ctx[_OBS], (n, 9, 1))[e]
+    deltas = _f64(ctx[_DELTAS], (n, 4, 1))[e]
+    hidden = _f64(ctx[_HIDDEN], (n, ctx[_H], 1))[e]
+    memory = _f64(ctx[_MEMORY], (n, nmem))[e : e + 1]
+    K.observe(qpos, tmax, _i64(ctx[_JOINTS], 4), _i64(ctx[_TOUCH], ctx[_NTOUCH]),
+              _f64(ctx[_BL], 1)[0], obs)  # fmt: skip
+    never = np.zeros(1, np.bool_)
+    K.record(t, qpos, obs, ctrl, memory, _records(ctx[_RQ], n, T, nq, e),
+             _records(ctx[_RO], n, T, 9, e), _records(ctx[_RC], n, T, nu, e),
+             _records(ctx[_RM], n, T, nmem, e), never, False)  # fmt: skip
+    if ctx[_KIND] == _MLP:
+        K.mlp(_net4(ctx, 0, e), _net3(ctx, 1, e), _net4(ctx, 2, e), _net3(ctx, 3, e),
+              obs, deltas, hidden, ctx[_OUTPUT])  # fmt: skip
+    else:
+        if t % ctx[_EVERY] == 0:  # the switcher picks (kernels.switch's rule)
+            choice = _f64(ctx[_CHOICE], (n, ctx[_C], 1))[e]
+            K.mlp(_net4(ctx, 0, e), _net3(ctx, 1, e), _net4(ctx, 2, e),
+                  _net3(ctx, 3, e), obs, choice, hidden, K.SIGMOID)  # fmt: skip
+            best = 0
+            for c in range(1, choice.shape[0]):
+                if choice[c, 0] > choice[best, 0]:
+                    best = c
+            memory[0, 0] = best
+        # only the picked network: its numbers are those kernels.switch selects
+        c, s = int(memory[0, 0]), 0 if ctx[_SHARED] else e
+        K.mlp(_net5(ctx, 4, s)[c], _net4(ctx, 5, s)[c], _net5(ctx, 6, s)[c],
+              _net4(ctx, 7, s)[c], obs, deltas, hidden, K.DELTA)  # fmt: skip
+    K.actuate(ctrl, deltas, _f64(ctx[_LO], nu), _f64(ctx[_HI], nu), never, False)
+
+
+@njit(inline="always")
+def _field(base, offset):
+    """The int64 (a pointer or an mjtSize) at ``base + offset``."""
+    return _i64(base + offset, 1)[0]
+
+
+@cfunc(types.void(types.voidptr, types.voidptr), cache=True, error_model="numpy")
+def _control(m, d):
+    """``mjcb_control``: a substep of one simulation (see the module's doc)."""
+    if _field(_address(m), _OFF_NUSER) < NUSERDATA:
+        return
+    base = _address(d)
+    user = _f64(_field(base, _OFF_USER), NUSERDATA)
+    if user[0] != MARKER:
+        return
+    warning = carray(_pointer(base + _OFF_WARN), 2 * _NWARNING, np.int32)
+    for w in range(_NWARNING):
+        if warning[2 * w + 1] > 0:  # MuJoCo reset it: the episode has failed
+            return
+    ctx = _i64(np.int64(user[1]), _LEN)
+    e = np.int64(user[2])
+    n, S, ns = ctx[_N], ctx[_S], ctx[_NS]
+    counter = _i64(ctx[_COUNTER], n)
+    j = counter[e]
+    counter[e] = j + 1
+    if j == 0:  # the start state: its inputs and action came from Python
+        return
+    tmax = _f64(ctx[_TMAX], (n, ns))
+    sens = _f64(_field(base, _OFF_SENS), ns)  # computed by the substep before
+    if (j - 1) % S == 0:
+        for c in range(ns):
+            tmax[e, c] = sens[c]
+    else:
+        for c in range(ns):
+            tmax[e, c] = max(tmax[e, c], sens[c])
+    if j % S == 0:
+        qpos = _f64(_field(base, _OFF_QPOS), (1, ctx[_NQ]))
+        ctrl = _f64(_field(base, _OFF_CTRL), (1, ctx[_NU]))
+        _episode(ctx, e, j // S, qpos, ctrl)
+
+
+# --- the rollout ------------------------------------------------------------------
+
+_LOCK = threading.Lock()
+_users = 0  # rollouts running with the callback installed
+_CHUNK = 100  # control steps per Batch.rollout call when a progress bar shows
+
+
+def run_incallback(batch: Batch, job: RolloutJob) -> RolloutResult:
+    """:func:`~.compiled.run_compiled`'s result, with the controllers
+    stepped inside the batch's threads. Controllers without a compiled kernel,
+    a model without the userdata, or another control callback already
+    installed: the step-by-step loop."""
+    ctl = job.controller
+    if not AVAILABLE or batch.model.nuserdata < NUSERDATA or not hasattr(ctl, "kernel"):
+        return run_compiled(batch, job)
+    m, n, T, S = batch.model, job.n_episodes, job.n_steps, job.model_params.substeps
+    step, rec, qpos = start(batch, job)
+    no_sub = np.empty((0, S, m.nsensordata))
+    # keep: every array ctx points into, alive until this function returns
+    ctx, tmax, keep = _context(batch, job, step, rec)
+    user = batch.bind("userdata")
+    user[:, 0] = MARKER
+    user[:, 1] = float(ctx.ctypes.data)
+    user[:, 2] = np.arange(n)
+    try:
+        with _installed() as ok:
+            if not ok:
+                return run_compiled(batch, job)
+            _step_all(batch, job, T * S)
+    except SimulationError:  # a MuJoCo error: the reference loop decides
+        return run_compiled(batch, job)
+    finally:
+        user[:, 0] = 0.0
+    # the last row, on the step-by-step loop's own kernel
+    unstable, newly = step.unstable, step.newly
+    failed = (batch.warning[:, :, 1] > 0).any(axis=1)
+    unstable |= failed
+    now = np.array(batch.bind("sensordata"))
+    sub = now[:, None] if S == 1 else np.stack([tmax, now], axis=1)
+    alive = np.flatnonzero(~unstable)
+    steps = np.full(n, T)
+    if step(T, True, sub[alive], alive, bool(failed.any()), False):
+        unstable |= newly
+        steps[newly] = T
+        qpos[newly] = np.nan_to_num(qpos[newly])
+        step(T, False, no_sub, np.flatnonzero(~unstable), True, False)
+    result = RolloutResult(rec, unstable, steps, 0)
+    if failed.any():
+        _redo(job, np.flatnonzero(failed), result)
+    result.control_steps = int(result.steps.sum())
+    return result
+
+
+def _context(batch: Batch, job: RolloutJob, step: _Step, rec: dict) -> tuple:
+    """The context array the callback reads, the touch maxima it keeps, and
+    every array it points into (which must outlive the rollout)."""
+    m, ctl, n = batch.model, job.controller, job.n_episodes
+    idx = lm.ModelIndex.of(m)
+    spec = ctl.kernel(step.prepared)
+    nets = spec[1] + (spec[2] if spec[0] == "switch" else ())
+    per_episode = [np.ascontiguousarray(np.moveaxis(a, -1, 0)[..., None]) for a in nets]
+    # the switched networks, when every episode holds the same: one copy
+    shared = all((a == a[:1]).all() for a in per_episode[4:])
+    if shared:
+        per_episode[4:] = [a[:1].copy() for a in per_episode[4:]]
+    if spec[0] == "mlp":
+        kind, hidden, choice, output, every = _MLP, nets[0].shape[0], 1, spec[2], 1
+    else:
+        kind, hidden = _SWITCH, max(nets[0].shape[0], nets[4].shape[1])
+        choice, output, every = nets[2].shape[0], K.SIGMOID, spec[3]
+    tmax = np.zeros((n, m.nsensordata))
+    arrays = [np.array([job.model_params.body_length]), np.zeros(n, np.int64), tmax,
+              np.asarray(idx.qpos_joints, np.int64), np.asarray(idx.touch, np.int64),
+              step.lo, step.hi, np.zeros((n, 9, 1)), np.zeros((n, 4, 1)),
+              np.zeros((n, hidden, 1)), np.zeros((n, choice, 1)),
+              step.memory, *(rec.get(k) for k in RECORDABLE)]  # fmt: skip
+    ctx = np.zeros(_LEN, np.int64)
+    ctx[:_BL] = (kind, n, job.n_steps, job.model_params.substeps, m.nq,
+                 m.nsensordata, m.nu, ctl.memory_size, len(idx.touch), hidden, choice,
+                 output, every, shared)  # fmt: skip
+    for i, a in enumerate(arrays):
+        if a is not None:
+            assert a.flags.c_contiguous
+            ctx[_BL + i] = a.ctypes.data
+    for k, a in enumerate(per_episode):
+        ctx[_NET + 6 * k] = a.ctypes.data
+        ctx[_NET + 6 * k + 1 : _NET + 6 * k + 1 + a.ndim] = a.shape
+    return ctx, tmax, (arrays, per_episode)
+
+
+class _installed:
+    """``mjcb_control`` set to this path's callback while any rollout of this
+    process runs on it (``as ok``: False, and nothing changed, when another
+    callback is installed)."""
+
+    def __enter__(self) -> bool:
+        global _users
+        with _LOCK:
+            if _users == 0:
+                if mujoco.get_mjcb_control() is not None:
+                    self.ok = False
+                    return False
+                mujoco.set_mjcb_control(_control.ctypes)
+            _users += 1
+        self.ok = True
+        return True
+
+    def __exit__(self, *exc) -> None:
+        global _users
+        if not self.ok:
+            return
+        with _LOCK:
+            _users -= 1
+            if _users == 0:
+                mujoco.set_mjcb_control(None)
+
+
+def _step_all(batch: Batch, job: RolloutJob, substeps: int) -> None:
+    """Every substep of the rollout: one call, or calls of 100 control steps
+    under a progress bar; a simulation with a warning is stepped no further."""
+    bar = _progress(job)
+    if bar is None:
+        batch.rollout(substeps, record=())
+        return
+    every = _CHUNK * job.model_params.substeps
+    ids = None
+    for done in range(0, substeps, every):
+        batch.rollout(min(every, substeps - done), record=(), ids=ids)
+        bar.update(min(_CHUNK, job.n_steps - done // job.model_params.substeps))
+        bad = (batch.warning[:, :, 1] > 0).any(axis=1)
+        ids = np.flatnonzero(~bad) if bad.any() else None
+        if ids is not None and ids.size == 0:
+            break
+    bar.close()
+
+
+def _redo(job: RolloutJob, failed: np.ndarray, result: RolloutResult) -> None:
+    """Episodes ``failed`` of ``result`` simulated again on the step-by-step
+    loop, alone (episodes are independent: the same as in the whole batch)."""
+    sub = RolloutJob(job.model_params, job.controller, job.params[failed],
+                     job.starts.take(failed), job.n_steps, job.record)  # fmt: skip
+    batch = Batch(lm.load_model(job.model_params), len(failed), 1, persistent=True)
+    again = run_compiled(batch, sub)
+    for k, a in result.records.items():
+        a[failed] = again.records[k]
+    result.unstable[failed] = again.unstable
+    result.steps[failed] = again.steps

@@ -1,0 +1,342 @@
+"""What a behaviour is: start states, an episode length, a fitness, and the
+hooks the layers above call (figures, metrics, extra evaluations, rows of the
+results table, the Gymnasium reward), so that no other module needs to know
+which behaviour it runs."""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, ClassVar
+
+import mujoco
+import numpy as np
+
+from locustjump.rundir.layout import EVAL, TRAJECTORY_PNG
+from locustjump.sim import model as lm
+from locustjump.sim.controller import MLP, Controller
+from locustjump.sim.engine.rollout import RolloutResult, StartStates, rollout
+
+if TYPE_CHECKING:
+    from locustjump.sim.engine.backends import Backend
+
+
+def settle(
+    p: lm.LocustParams,
+    *,
+    roll_deg: float = 0.0,
+    angles: np.ndarray | None = None,
+    seconds: float = 3.0,
+) -> StartStates:
+    """A start state settled on the ground before t = 0 (deterministic).
+
+    The Fig. 4 posture (keyframe ``ready``) is rolled by ``roll_deg`` about the
+    body's x-axis, its hind joints and servo targets set to ``angles`` (4,
+    radians; default phi), lifted until its bounding spheres clear the floor,
+    and simulated for ``seconds`` with the servos holding their targets. The
+    body is then moved back over the origin (heading and height kept).
+    """
+    m = lm.load_model(p)
+    idx = lm.ModelIndex.of(m)
+    d = mujoco.MjData(m)
+    mujoco.mj_resetDataKeyframe(m, d, m.key(lm.READY_KEY).id)
+    if angles is not None:
+        d.qpos[idx.qpos_joints] = angles
+        d.ctrl[:] = angles
+    q_roll = np.empty(4)
+    mujoco.mju_axisAngle2Quat(q_roll, np.array([1.0, 0.0, 0.0]), np.radians(roll_deg))
+    q = np.empty(4)
+    mujoco.mju_mulQuat(q, d.qpos[3:7].copy(), q_roll)  # rotation in the body frame
+    d.qpos[3:7] = q
+    mujoco.mj_forward(m, d)
+    creature = m.geom_bodyid != 0
+    low = (d.geom_xpos[creature, 2] - m.geom_rbound[creature]).min()
+    d.qpos[2] += 1e-3 * p.scale - low
+    mujoco.mj_forward(m, d)
+    mujoco.mj_step(m, d, nstep=round(seconds / m.opt.timestep))
+    d.qpos[:2] = 0.0
+    return StartStates(d.qpos[None].copy(), d.qvel[None].copy(), d.ctrl[None].copy())
+
+
+@dataclass(frozen=True)
+class Claim:
+    """One row of ``results.md``: a claim of the paper and how ours compares.
+
+    ``ours`` is ``None`` while the stage has not run yet. ``value`` (what
+    ``measure`` names) and ``ok`` are the number and the verdict as data, which
+    the summary across seeds reduces to a median, a range and a count. ``why``,
+    printed under the table when the claim fails, says what a study measured
+    about the reason (docs/science.md), not this run.
+    """
+
+    text: str  # the claim, as the paper makes it (figure in parentheses)
+    paper: str  # the paper's number
+    ours: str | None = None  # our number
+    verdict: str = "-"  # "**yes**"/"no" and our criterion in parentheses
+    value: float | None = None  # the number the verdict is about
+    ok: bool | None = None  # reproduced by our criterion
+    measure: str = ""  # what ``value`` is, with its unit
+    why: str = ""  # what is known of why it fails, beyond this run (a study)
+
+    def row(self) -> str:
+        ours = (
+            "not run yet | -" if self.ours is None else f"{self.ours} | {self.verdict}"
+        )
+        return f"| {self.text} | {self.paper} | {ours} |"
+
+
+def yes(ok: bool) -> str:
+    """The verdict word of a claim row."""
+    return "**yes**" if ok else "no"
+
+
+def fmt(x: float | None, spec: str = ".2f") -> str:
+    """A number of a claim row; ``n/a`` where there is none."""
+    return "n/a" if x is None else format(x, spec)
+
+
+#: the finest physics a fitness may also be scored at (substeps a control step)
+MAX_SCORE_SUBSTEPS = 48
+
+
+@dataclass(frozen=True)
+class CommonOptions:
+    """Settings beyond the paper that every behaviour takes (``[options]``)."""
+
+    #: also score every genome with the physics at these substeps a control
+    #: step; its fitness is then the worst over them and the model's own (a
+    #: controller that only works at one resolution of the physics scores low)
+    score_substeps: tuple[int, ...] = ()
+
+    def __post_init__(self) -> None:
+        bad = [s for s in self.score_substeps if not 1 <= s <= MAX_SCORE_SUBSTEPS]
+        if bad or len(set(self.score_substeps)) != len(self.score_substeps):
+            raise ValueError(
+                f"score_substeps must be distinct integers in [1, "
+                f"{MAX_SCORE_SUBSTEPS}], got {list(self.score_substeps)}"
+            )
+
+
+class StepReward:
+    """Per-step rewards of one episode that add up to the behaviour's fitness.
+
+    The default is sparse: 0 at every step and the episode's fitness
+    (``episode_fitness`` of the recorded trajectory) at the last one; a
+    behaviour overrides :meth:`Behaviour.reward` with a dense one.
+    """
+
+    def __init__(self, behaviour: Behaviour, p: lm.LocustParams):
+        self.behaviour, self.p = behaviour, p
+        self._rows: dict[str, list[np.ndarray]] = {}
+
+    def reset(self, qpos: np.ndarray, obs: np.ndarray) -> None:
+        """The start state's ``qpos (nq,)`` and inputs ``obs (9,)``."""
+        self._rows = {"qpos": [qpos.copy()], "obs": [obs.copy()]}
+
+    def step(self, qpos: np.ndarray, obs: np.ndarray) -> float:
+        """The reward of the control step that led to ``qpos``, ``obs``."""
+        self._rows["qpos"].append(qpos.copy())
+        self._rows["obs"].append(obs.copy())
+        if len(self._rows["qpos"]) <= self.behaviour.n_steps:
+            return 0.0
+        res = RolloutResult(
+            {k: np.array(v)[None] for k, v in self._rows.items()},
+            np.zeros(1, bool),
+            np.array([self.behaviour.n_steps]),
+        )
+        return float(self.behaviour.episode_fitness(res, self.p)[0])
+
+
+class Behaviour:
+    """One experiment: what a subclass sets and may override.
+
+    Required: ``name``, ``n_steps``, ``record`` (what its fitness reads),
+    :meth:`start_states`, :meth:`episode_fitness`, :meth:`metrics`. Fitness is
+    maximised; an episode whose simulation went unstable gets
+    ``worst_fitness``.
+
+    Hooks, each with a default that fits a plain behaviour:
+
+    ==========================  ================================================
+    ``requires``                runs whose best genomes it builds on (frozen)
+    ``controller``              the evolved network (default: the 9-10-4 MLP)
+    :meth:`write_figures`       its figures (named in ``figures``)
+    :meth:`extra_evaluation`    evaluations beyond the episodes (getup's sweep)
+    :meth:`claims`              its rows of ``results.md``
+    :meth:`report_section`      a section of ``results.md`` of its own
+    ``headline``                the metrics ``locustjump replay`` prints
+    ``memory_labels``           what memory[0] indexes (a video's caption)
+    ``gym_id``, :meth:`reward`  its Gymnasium environment and per-step reward
+    ``Options``                 its settings beyond the paper (a frozen
+                                dataclass; ``[options]`` of ``config.toml``)
+    ==========================  ================================================
+    """
+
+    name: ClassVar[str]
+    n_steps: ClassVar[int]
+    record: ClassVar[tuple[str, ...]] = ("qpos",)
+    #: what ``evaluate_run`` records (its trajectory CSV needs the first three)
+    eval_record: ClassVar[tuple[str, ...]] = ("qpos", "obs", "ctrl")
+    worst_fitness: ClassVar[float] = 0.0
+    requires: ClassVar[tuple[str, ...]] = ()
+    #: (file in the run directory, alt text, caption in results.md)
+    figures: ClassVar[tuple[tuple[str, str, str], ...]] = (
+        (f"{EVAL}/{TRAJECTORY_PNG}", "trajectory", ""),
+    )
+    headline: ClassVar[tuple[str, ...]] = ("fitness",)
+    memory_labels: ClassVar[tuple[str, ...] | None] = None
+    gym_id: ClassVar[str | None] = None
+    Options: ClassVar[type] = CommonOptions
+
+    def __init__(self, frozen: np.ndarray | None = None, options: Any = None):
+        """``frozen`` (k, P): genomes of the ``requires`` runs, if any;
+        ``options``: an instance of ``Options`` (default: its defaults)."""
+        self.frozen = None if frozen is None else np.asarray(frozen, np.float64)
+        self.options = self.Options() if options is None else options
+        if not isinstance(self.options, self.Options):
+            raise TypeError(
+                f"{self.name} takes {self.Options.__name__} options, "
+                f"got {type(self.options).__name__}"
+            )
+
+    @classmethod
+    def frozen_num_params(cls) -> int:
+        """Genes of each frozen genome (the paper's 9-10-4 networks)."""
+        return MLP().num_params
+
+    @property
+    def controller(self) -> Controller:
+        """The evolved network (the paper's 9-10-4 MLP)."""
+        return MLP()
+
+    def start_states(self, p: lm.LocustParams) -> StartStates:
+        raise NotImplementedError
+
+    def episode_fitness(self, res: RolloutResult, p: lm.LocustParams) -> np.ndarray:
+        """(n_episodes,) fitness of each episode of ``res``."""
+        raise NotImplementedError
+
+    def metrics(
+        self,
+        res: RolloutResult,
+        p: lm.LocustParams,
+        genome: np.ndarray,
+        *,
+        backend: Backend | None = None,
+    ) -> dict[str, Any]:
+        """Behaviour metrics of one controller's episodes (JSON-serialisable)."""
+        return {"fitness": float(self.fitness(res, p)[0])}
+
+    def state_labels(self) -> list[str]:
+        """A file-name-safe label per start state."""
+        return ["start"]
+
+    def write_figures(
+        self,
+        res: RolloutResult,
+        p: lm.LocustParams,
+        out: Path,
+        *,
+        backend: Backend | None = None,
+    ) -> list[Path]:
+        """Figures of one controller's episodes into directory ``out``."""
+        from locustjump.present.plots import trajectory_figure
+        from locustjump.sim.analysis import find_jumps
+
+        path = out / TRAJECTORY_PNG
+        qpos = res["qpos"][0]
+        trajectory_figure(path, [(self.name, qpos, find_jumps(qpos, p))])
+        return [path]
+
+    def extra_evaluation(
+        self,
+        run: Path,
+        genome: np.ndarray,
+        p: lm.LocustParams,
+        *,
+        backend: Backend | None = None,
+    ) -> dict[str, Any]:
+        """Evaluations beyond the episodes, written into run directory ``run``;
+        the numbers they give (merged into ``eval/metrics.json``)."""
+        return {}
+
+    def claims(self, record: dict[str, Any] | None) -> list[Claim]:
+        """Rows of ``results.md`` from this stage's ``eval/metrics.json``
+        (``None``: not run yet)."""
+        return []
+
+    def report_section(self, stages: dict[str, dict[str, Any]]) -> list[str]:
+        """Markdown lines of a ``results.md`` section of its own, from every
+        finished stage's summary (``locustjump.present.results.stage_summary``)."""
+        return []
+
+    def across_seeds(self, seeds: dict[int, dict[str, dict[str, Any]]]) -> list[str]:
+        """Markdown lines of its own section of a reproduction over several
+        seeds: ``seeds`` maps each seed to its finished stages' summaries."""
+        return []
+
+    def reward(self, p: lm.LocustParams) -> StepReward:
+        """Per-step rewards of the Gymnasium environment (sum = fitness)."""
+        return StepReward(self, p)
+
+    # -- shared machinery --
+
+    def simulate(
+        self,
+        genomes: np.ndarray,
+        p: lm.LocustParams,
+        *,
+        backend: Backend | None = None,
+        record: tuple[str, ...] | None = None,
+        label: str = "",
+    ) -> RolloutResult:
+        """Every genome from every start state (controller-major episodes);
+        ``label``: a progress bar on a terminal."""
+        return rollout(
+            self.controller,
+            genomes,
+            self.start_states(p),
+            self.n_steps,
+            model_params=p,
+            record=self.record if record is None else record,
+            backend=backend,
+            label=label,
+        )
+
+    def fitness(self, res: RolloutResult, p: lm.LocustParams) -> np.ndarray:
+        """(n_controllers,) fitness: the mean over each controller's start states."""
+        f = np.where(res.unstable, self.worst_fitness, self.episode_fitness(res, p))
+        k = len(self.start_states(p))
+        return f.reshape(-1, k).mean(axis=1)
+
+    def evaluate(
+        self,
+        genomes: np.ndarray,
+        p: lm.LocustParams,
+        *,
+        backend: Backend | None = None,
+    ) -> tuple[np.ndarray, RolloutResult]:
+        """Fitness (n,) of genomes (n, P) and the rollout it came from."""
+        res = self.simulate(genomes, p, backend=backend)
+        return self.score(genomes, res, p, backend=backend), res
+
+    def score(
+        self,
+        genomes: np.ndarray,
+        res: RolloutResult,
+        p: lm.LocustParams,
+        *,
+        backend: Backend | None = None,
+    ) -> np.ndarray:
+        """Fitness (n,) of ``genomes`` from their rollout ``res`` at ``p``; with
+        the option ``score_substeps``, the minimum of it and of their fitness
+        at each of those resolutions (simulated here; their control steps are
+        added to ``res.control_steps``)."""
+        fit = self.fitness(res, p)
+        for substeps in self.options.score_substeps:
+            q = dataclasses.replace(p, substeps=substeps)
+            other = self.simulate(genomes, q, backend=backend, record=self.record)
+            fit = np.minimum(fit, self.fitness(other, q))
+            res.control_steps += other.control_steps
+        return fit

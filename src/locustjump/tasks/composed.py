@@ -1,0 +1,331 @@
+"""Behaviour Composed: successive jumping by switching the three frozen simple
+behaviours (paper §4, Fig. 11–12).
+
+* controller: a 9-10-3 *switcher* network (sigmoid outputs in [0, 1]); every
+  ``SWITCH_EVERY`` = 120 control steps (1 s) the simple behaviour with the
+  largest output takes control until the next switch. The three simple 9-10-4
+  networks (kick, getup, return-legs, in that output order) are frozen; servo
+  targets carry over across switches (each network changes the targets it
+  finds);
+* start: lying on its side, the get-up start state rolled 90 deg (Fig. 11);
+* episode: 3000 control steps (25 s);
+* fitness (Eq. 4): ``E = sum_{t=1..3000} z_t``, the body centre's height above
+  the floor in metres, summed over control steps (unit: m x steps; divide by
+  3000 for the mean height).
+
+:mod:`.monolithic` adds the baseline beyond the paper on the same episode
+and fitness (``_Successive``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from locustjump.rundir.layout import EVAL
+from locustjump.sim import model as lm
+from locustjump.sim.analysis import find_jumps
+from locustjump.sim.controller import MLP, Controller, MLPWeights
+from locustjump.sim.engine.rollout import RolloutResult, StartStates
+from locustjump.tasks.base import (
+    Behaviour,
+    Claim,
+    CommonOptions,
+    StepReward,
+    fmt,
+    yes,
+)
+from locustjump.tasks.getup import SUCCESS_UZ, rolled_starts
+
+if TYPE_CHECKING:
+    from locustjump.sim.engine.backends import Backend
+
+#: The simple behaviours, in the order of the switcher's outputs.
+SIMPLE = ("kick", "getup", "return-legs")
+#: Control steps between two decisions of the switcher (paper: 120).
+SWITCH_EVERY = 120
+#: Fig. 11: the start lies on its side (get-up start state rolled 90 deg).
+START_ROLL = 90.0
+#: U_z below this counts as overturned (on its side or back).
+OVERTURNED_UZ = 0.0
+#: The paper (Fig. 12): every composed jump is more than 2x the rule's.
+PAPER_COMPOSED_RATIO = 2.0
+#: Why it fails, as measured by the ceiling study (docs/science.md).
+COMPOSED_WHY = (
+    "a take-off from the ready posture rises at most 1.27x as high as the "
+    "rule's first jump (the kick's ceiling, docs/science.md), so no composed "
+    "jump is 2x the rule's unless it gains height from its landings, which "
+    "we saw only on the 3-substep physics (bounces of 3.5-6 m; docs/science.md)"
+)
+
+
+@dataclass(frozen=True)
+class SwitchOptions(CommonOptions):
+    """The composed behaviour's settings beyond the paper (``[options]``)."""
+
+    #: control steps between two decisions of the switcher (paper: 120)
+    switch_every: int = SWITCH_EVERY
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if not 1 <= self.switch_every <= 3000:
+            raise ValueError(
+                "switch_every must be in [1, 3000] control steps, "
+                f"got {self.switch_every}"
+            )
+
+
+@dataclass(frozen=True, eq=False)
+class SwitchingController:
+    """The switcher over frozen simple networks, batched over episodes.
+
+    ``params`` (n, 143) are switcher genomes; ``simple`` (3, 144) the frozen
+    networks' genomes in :data:`SIMPLE` order. Memory per episode: the index of
+    the selected simple behaviour (recorded as the behaviour timeline).
+    """
+
+    simple: np.ndarray
+    every: int = SWITCH_EVERY
+    switcher: MLP = MLP(n_out=len(SIMPLE), output="sigmoid")
+    network: MLP = MLP()
+
+    def __post_init__(self) -> None:
+        shape = (len(SIMPLE), self.network.num_params)
+        if np.shape(self.simple) != shape:
+            raise ValueError(
+                f"simple genomes have shape {np.shape(self.simple)}, expected {shape}"
+            )
+        if self.every < 1:
+            raise ValueError(f"every must be >= 1, got {self.every}")
+
+    @property
+    def num_params(self) -> int:
+        return self.switcher.num_params
+
+    @property
+    def memory_size(self) -> int:
+        return 1
+
+    def prepare(self, params: np.ndarray) -> tuple[MLPWeights, MLPWeights]:
+        return self.switcher.prepare(params), self.network.prepare(self.simple)
+
+    def kernel(self, prepared: tuple[MLPWeights, MLPWeights]) -> tuple:
+        """The compiled path's form of ``act`` (:func:`~.kernels.switch`):
+        the switcher's and the simple networks' weights episode-last."""
+        from locustjump.sim.engine.kernels import soa
+
+        switcher, simple = prepared
+        n = switcher.w1.shape[0]
+        # (3, ..., n): every episode holds each simple network
+        nets = tuple(
+            np.ascontiguousarray(np.broadcast_to(w[..., None], (*w.shape, n)))
+            for w in simple
+        )
+        return ("switch", tuple(soa(w) for w in switcher), nets, self.every)
+
+    def select(self, switcher: MLPWeights, obs: np.ndarray) -> np.ndarray:
+        """(n,) index of the simple behaviour with the largest switcher output."""
+        return np.argmax(self.switcher.apply(switcher, obs), axis=1)
+
+    def act(
+        self,
+        prepared: tuple[MLPWeights, MLPWeights],
+        memory: np.ndarray,
+        obs: np.ndarray,
+        targets: np.ndarray,
+        step: int,
+    ) -> tuple[np.ndarray, np.ndarray]:
+        switcher, simple = prepared
+        if step % self.every == 0:
+            memory = self.select(switcher, obs).astype(np.float64)[:, None]
+        chosen = memory[:, 0].astype(np.intp)
+        # each row runs its selected network: the same per-row arithmetic as the
+        # simple behaviour's own rollout
+        weights = MLPWeights(*(w[chosen] for w in simple))
+        return self.network.apply(weights, obs), memory
+
+
+def overturns(uz: np.ndarray) -> tuple[int, int]:
+    """(times overturned, times recovered) of one episode's U_z (T,).
+
+    Overturned: U_z drops below ``OVERTURNED_UZ`` after having been upright
+    (U_z >= ``SUCCESS_UZ``); recovered: upright again after that.
+    """
+    over = rec = 0
+    upright = bool(uz[0] >= SUCCESS_UZ)
+    for u in uz[1:]:
+        if upright and u < OVERTURNED_UZ:
+            upright, over = False, over + 1
+        elif not upright and u >= SUCCESS_UZ:
+            upright = True
+            rec += 1 if over else 0
+    return over, rec
+
+
+class HeightReward(StepReward):
+    """Dense Eq. 4: ``z_t``, the body's height (m)."""
+
+    def reset(self, qpos: np.ndarray, obs: np.ndarray) -> None:
+        pass
+
+    def step(self, qpos: np.ndarray, obs: np.ndarray) -> float:
+        return float(qpos[2])
+
+
+class _Successive(Behaviour):
+    """Shared by the composed and the monolithic behaviour: start, episode,
+    fitness, metrics and figures."""
+
+    n_steps = 3000
+    record = ("qpos",)
+    worst_fitness = 0.0
+    eval_record = ("qpos", "obs", "ctrl", "memory")
+    headline = ("jumps", "apex_heights_m")
+
+    def start_states(self, p: lm.LocustParams) -> StartStates:
+        return rolled_starts(p, (START_ROLL,))
+
+    def episode_fitness(self, res: RolloutResult, p: lm.LocustParams) -> np.ndarray:
+        return res["qpos"][:, 1:, 2].sum(axis=1)
+
+    def metrics(
+        self,
+        res: RolloutResult,
+        p: lm.LocustParams,
+        genome: np.ndarray,
+        *,
+        backend: Backend | None = None,
+    ) -> dict[str, Any]:
+        """Jumps and their apexes, distance, overturns, and each jump's apex
+        over the rule-based jumps' mean apex (paper: > 2x at every jump)."""
+        from locustjump.tasks.rules import run_rules
+
+        qpos, uz = res["qpos"][0], res["obs"][0, :, 8]
+        jumps = find_jumps(qpos, p)
+        rules = run_rules(steps=self.n_steps, model_params=p, backend=backend)
+        rule_apex = [j.apex_height for j in rules.jumps]
+        over, rec = overturns(uz)
+        out: dict[str, Any] = {
+            "fitness": float(self.fitness(res, p)[0]),
+            "mean_height_m": float(qpos[1:, 2].mean()),
+            "jumps": len(jumps),
+            "apex_heights_m": [round(j.apex_height, 4) for j in jumps],
+            "distance_m": float(qpos[-1, 0] - qpos[0, 0]),
+            "overturned": over,
+            "recovered": rec,
+            "final_up_z": float(uz[-1]),
+            "rules_jumps": len(rule_apex),
+            "rules_mean_apex_height_m": float(np.mean(rule_apex))
+            if rule_apex
+            else None,
+            "rules_fitness": float(rules.qpos[1:, 2].sum()),
+            "unstable": bool(res.unstable[0]),
+        }
+        if rule_apex:
+            ratios = [j.apex_height / float(np.mean(rule_apex)) for j in jumps]
+            out["apex_ratios_to_rules"] = [round(r, 3) for r in ratios]
+            out["min_apex_ratio_to_rules"] = min(ratios) if ratios else None
+        if "memory" in res.records:
+            sel = res["memory"][0, 1:, 0].astype(int)
+            out["selected_steps"] = {
+                name: int((sel == i).sum()) for i, name in enumerate(SIMPLE)
+            }
+        return out
+
+    def write_figures(
+        self,
+        res: RolloutResult,
+        p: lm.LocustParams,
+        out: Path,
+        *,
+        backend: Backend | None = None,
+    ) -> list[Path]:
+        """``composed.png``: the paper's Fig. 12, the trajectory over the
+        rule-based one and, under it, which simple behaviour was selected."""
+        from locustjump.present.plots import composed_figure
+        from locustjump.tasks.rules import run_rules
+
+        qpos = res["qpos"][0]
+        rules = run_rules(steps=self.n_steps, model_params=p, backend=backend)
+        selected = res["memory"][0, 1:, 0] if "memory" in res.records else None
+        path = out / f"{self.name}.png"
+        composed_figure(
+            path,
+            [
+                (self.name, qpos, find_jumps(qpos, p)),
+                ("rule-based", rules.qpos, rules.jumps),
+            ],
+            selected,
+            SIMPLE,
+            title=f"Successive jumping: {self.name} vs rule-based "
+            f"({self.n_steps} steps)",
+        )
+        return [path]
+
+    def reward(self, p: lm.LocustParams) -> StepReward:
+        return HeightReward(self, p)
+
+
+class Composed(_Successive):
+    """The paper's Behaviour Composed; builds on the three simple runs."""
+
+    name = "composed"
+    requires = SIMPLE
+    memory_labels = SIMPLE
+    figures = (
+        (
+            f"{EVAL}/composed.png",
+            "composed",
+            "Successive jumping by the composed controller, with the selected "
+            "simple behaviour (Fig. 12):",
+        ),
+    )
+    headline = ("jumps", "apex_heights_m", "min_apex_ratio_to_rules")
+    Options = SwitchOptions
+
+    @property
+    def controller(self) -> Controller:
+        if self.frozen is None:
+            raise ValueError(
+                "the composed behaviour needs the three simple behaviours' genomes "
+                "(kick, getup, return-legs)"
+            )
+        return SwitchingController(self.frozen, every=self.options.switch_every)
+
+    def claims(self, record: dict[str, Any] | None) -> list[Claim]:
+        claim = Claim(
+            "every composed jump is more than 2x as high as the rule-based jumps "
+            "(Fig. 12)",
+            f"> {PAPER_COMPOSED_RATIO:g}x at every jump",
+        )
+        if record is None:
+            return [claim]
+        c = record["metrics"]
+        ratios = c.get("apex_ratios_to_rules", [])
+        low = min(ratios) if ratios else None
+        ok = c["jumps"] >= 2 and low is not None and low > PAPER_COMPOSED_RATIO
+        return [
+            Claim(
+                claim.text,
+                claim.paper,
+                f"{c['jumps']} jumps, smallest ratio {fmt(low)}x (rule-based mean "
+                f"apex {fmt(c.get('rules_mean_apex_height_m'))} m)",
+                f"{yes(ok)} (>= 2 jumps, each > 2x)",
+                low,
+                ok,
+                "smallest jump / rule-based mean apex (x)",
+                why=COMPOSED_WHY,
+            )
+        ]
+
+
+__all__ = [
+    "SIMPLE",
+    "SWITCH_EVERY",
+    "Composed",
+    "SwitchingController",
+    "overturns",
+]

@@ -1,0 +1,325 @@
+"""Behaviour Simple 2: getting up after overturning (paper §3.2, Fig. 8–9).
+
+* start: the Fig. 4 posture rolled about the body x-axis by 90, 135, 180, 225
+  and 270 deg (one side -> upside down -> the other side) and settled on the
+  ground for 3 s (:func:`~locustjump.tasks.base.settle`). On our creature
+  the round body cannot rest on its side: every roll in [90, 270] deg settles
+  on its back, tilted towards the side it started on (``docs/behaviours.md``);
+* episode: 1000 control steps from each of the 5 states (one engine call);
+* fitness (our reading of Eq. 2, SPEC): the mean over states and steps of
+  U_z(t), the world z of the body's up-axis (input I9): 1 upright, -1 on its
+  back. Success from a state: U_z >= 0.9 at the end of the episode.
+"""
+
+from __future__ import annotations
+
+import functools
+import os
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from locustjump.rundir.layout import EVAL, SWEEP, SWEEP_CSV, SWEEP_PNG
+from locustjump.sim import model as lm
+from locustjump.sim.engine.rollout import RolloutResult, StartStates, rollout
+from locustjump.sim.model import CONTROL_DT
+from locustjump.tasks.base import Behaviour, Claim, StepReward, fmt, settle, yes
+
+if TYPE_CHECKING:
+    from locustjump.sim.engine.backends import Backend
+
+TRAIN_ROLLS: tuple[float, ...] = (90.0, 135.0, 180.0, 225.0, 270.0)  # (deg)
+SUCCESS_UZ = 0.9
+SETTLE_SECONDS = 3.0  # rocking on the back dies out by then (docs/behaviours.md)
+FIGURE = "getup.png"  # Fig. 9
+#: The paper's generalisation test: got up from 65 of 180 sweep states.
+PAPER_SWEEP = 65
+
+
+@functools.lru_cache(maxsize=16)
+def rolled_starts(p: lm.LocustParams, rolls: tuple[float, ...]) -> StartStates:
+    """Settled start states for roll angles ``rolls`` (degrees), in order."""
+    for r in rolls:
+        if not 0.0 <= r < 360.0:
+            raise ValueError(f"roll angle must be in [0, 360) degrees, got {r:g}")
+    return StartStates.concat(
+        [settle(p, roll_deg=r, seconds=SETTLE_SECONDS) for r in rolls]
+    )
+
+
+def _settled(p: lm.LocustParams, rolls: tuple[float, ...]) -> StartStates:
+    """:func:`rolled_starts` of many states, with a progress bar (terminal)."""
+    if len(rolls) <= 2 * len(TRAIN_ROLLS):
+        return rolled_starts(p, rolls)
+    from tqdm.auto import tqdm
+
+    return StartStates.concat(
+        [
+            rolled_starts(p, (r,))
+            for r in tqdm(
+                rolls, desc="settling start states", unit="state", disable=None
+            )  # fmt: skip
+        ]
+    )
+
+
+def up_z(res: RolloutResult) -> np.ndarray:
+    """(n, T + 1) U_z of every episode."""
+    return res["obs"][:, :, 8]
+
+
+def getup_summary(uz: np.ndarray) -> dict[str, np.ndarray]:
+    """Per episode: final U_z, success, time to get up (s; NaN if never)."""
+    final = uz[:, -1]
+    success = final >= SUCCESS_UZ
+    reached = uz >= SUCCESS_UZ
+    first = np.where(reached.any(axis=1), reached.argmax(axis=1), -1)
+    t_up = np.where(first >= 0, first * CONTROL_DT, np.nan)
+    return {"final_uz": final, "success": success, "time_to_get_up_s": t_up}
+
+
+class UpReward(StepReward):
+    """Dense Eq. 2: ``U_z(t) / T``."""
+
+    def reset(self, qpos: np.ndarray, obs: np.ndarray) -> None:
+        pass
+
+    def step(self, qpos: np.ndarray, obs: np.ndarray) -> float:
+        return float(obs[8]) / self.behaviour.n_steps
+
+
+class GetUp(Behaviour):
+    name = "getup"
+    n_steps = 1000
+    record = ("obs",)
+    worst_fitness = -1.0
+    rolls = TRAIN_ROLLS
+    figures = (
+        (
+            f"{EVAL}/{FIGURE}",
+            "getup",
+            "Getting up from the five start states (Fig. 9) and the sweep:",
+        ),
+        (f"{SWEEP}/{SWEEP_PNG}", "sweep", ""),
+    )
+    headline = ("got_up_from",)
+    gym_id = "LocustGetUp-v0"
+
+    def start_states(self, p: lm.LocustParams) -> StartStates:
+        return rolled_starts(p, self.rolls)
+
+    def episode_fitness(self, res: RolloutResult, p: lm.LocustParams) -> np.ndarray:
+        return up_z(res)[:, 1:].mean(axis=1)
+
+    def state_labels(self) -> list[str]:
+        return [f"roll{r:03.0f}" for r in self.rolls]
+
+    def metrics(
+        self,
+        res: RolloutResult,
+        p: lm.LocustParams,
+        genome: np.ndarray,
+        *,
+        backend: Backend | None = None,
+    ) -> dict[str, Any]:
+        s = getup_summary(up_z(res))
+        return {
+            "fitness": float(self.fitness(res, p)[0]),
+            "got_up_from": f"{int(s['success'].sum())} of {len(self.rolls)}",
+            "roll_deg": list(self.rolls),
+            "start_uz": [round(float(u), 4) for u in up_z(res)[:, 0]],
+            "final_uz": [round(float(u), 4) for u in s["final_uz"]],
+            "success": [bool(b) for b in s["success"]],
+            "time_to_get_up_s": [
+                None if np.isnan(t) else round(float(t), 4)
+                for t in s["time_to_get_up_s"]
+            ],
+            "unstable": int(res.unstable.sum()),
+        }
+
+    def write_figures(
+        self,
+        res: RolloutResult,
+        p: lm.LocustParams,
+        out: Path,
+        *,
+        backend: Backend | None = None,
+    ) -> list[Path]:
+        """``getup.png``: the paper's Fig. 9, U_z over time from each state."""
+        from locustjump.present.plots import getup_figure
+
+        path = out / FIGURE
+        getup_figure(path, up_z(res), self.rolls, SUCCESS_UZ)
+        return [path]
+
+    def extra_evaluation(
+        self,
+        run: Path,
+        genome: np.ndarray,
+        p: lm.LocustParams,
+        *,
+        backend: Backend | None = None,
+    ) -> dict[str, Any]:
+        """The paper's generalisation test (180 states): ``run/sweep/``."""
+        sw = sweep_getup(genome, p, sweep_angles(), backend=backend)
+        write_sweep(Path(run), sw)
+        return {"sweep_got_up": sw.got_up, "sweep_states": sw.n_sweep}
+
+    def claims(self, record: dict[str, Any] | None) -> list[Claim]:
+        five = Claim("gets up from all 5 training states (Fig. 9)", "5 of 5")
+        sweep = Claim("gets up from 65 of 180 sweep states", f"{PAPER_SWEEP} of 180")
+        if record is None:
+            return [five, sweep]
+        got_up = sum(record["metrics"]["success"])
+        n_sweep = record.get("sweep_states", 180)
+        swept = record.get("sweep_got_up")
+        ok = swept is not None and swept >= PAPER_SWEEP
+        return [
+            Claim(
+                five.text,
+                five.paper,
+                f"{got_up} of 5",
+                yes(got_up == 5),
+                got_up,
+                got_up == 5,
+                "training states got up (of 5)",
+            ),  # fmt: skip
+            Claim(
+                sweep.text,
+                sweep.paper,
+                f"{fmt(swept, 'd')} of {n_sweep}",
+                f"{yes(ok)} (>= 65)",
+                swept,
+                ok,
+                f"sweep states got up (of {n_sweep})",
+            ),
+        ]
+
+    def reward(self, p: lm.LocustParams) -> StepReward:
+        return UpReward(self, p)
+
+
+def sweep_angles(
+    step_deg: float = 1.0, from_deg: float = 90.0, to_deg: float = 270.0
+) -> np.ndarray:
+    """The generalisation test's roll angles: the centres of ``step_deg`` bins
+    from ``from_deg`` to ``to_deg`` (1 deg: 90.5, 91.5, ..., 269.5, i.e. 180
+    states from one side to the other, none equal to a training state)."""
+    if not step_deg > 0:
+        raise ValueError(f"--step-deg must be > 0, got {step_deg:g}")
+    for name, a in (("--from-deg", from_deg), ("--to-deg", to_deg)):
+        if not 0.0 <= a <= 360.0:
+            raise ValueError(f"{name} must be in [0, 360] degrees, got {a:g}")
+    if not from_deg < to_deg:
+        raise ValueError(f"--from-deg {from_deg:g} must be below --to-deg {to_deg:g}")
+    n = int(np.floor((to_deg - from_deg) / step_deg + 1e-9))
+    if n < 1:
+        raise ValueError(f"--step-deg {step_deg:g} leaves no angle in the range")
+    from locustjump.sim.engine.rollout import rollout_bytes
+    from locustjump.sim.resources import require_memory
+
+    require_memory(
+        rollout_bytes(lm.load_model(), n + len(TRAIN_ROLLS), GetUp.n_steps, ("obs",)),
+        f"--step-deg {step_deg:g}: a sweep of {n:,} start states",
+    )
+    return from_deg + step_deg * (np.arange(n) + 0.5)
+
+
+@dataclass(frozen=True)
+class Sweep:
+    """Outcome of the get-up generalisation test, one entry per start state."""
+
+    roll_deg: np.ndarray
+    training: np.ndarray  # bool: one of the five training states
+    start_uz: np.ndarray
+    final_uz: np.ndarray
+    success: np.ndarray
+    time_to_get_up_s: np.ndarray
+
+    @property
+    def got_up(self) -> int:
+        """States of the sweep proper (not the training ones) got up from."""
+        return int(self.success[~self.training].sum())
+
+    @property
+    def n_sweep(self) -> int:
+        return int((~self.training).sum())
+
+
+def sweep_getup(
+    genome: np.ndarray,
+    p: lm.LocustParams,
+    angles: np.ndarray,
+    *,
+    backend: Backend | None = None,
+) -> Sweep:
+    """Evaluate one get-up controller from ``angles`` plus the training states."""
+    rolls = tuple(float(a) for a in angles) + TRAIN_ROLLS
+    res = rollout(
+        GetUp().controller,
+        genome[None],
+        _settled(p, rolls),
+        GetUp.n_steps,
+        model_params=p,
+        record=("obs",),
+        backend=backend,
+        label=f"sweep: {len(rolls)} states",
+    )
+    uz = np.where(res.unstable[:, None], -1.0, up_z(res))
+    s = getup_summary(uz)
+    training = np.arange(len(rolls)) >= len(angles)
+    return Sweep(
+        np.array(rolls), training, uz[:, 0], s["final_uz"], s["success"],
+        s["time_to_get_up_s"],
+    )  # fmt: skip
+
+
+def write_sweep(run: Path, sw: Sweep) -> list[Path]:
+    """``run/sweep/sweep.csv`` and ``sweep.png`` of a sweep."""
+    from locustjump import rundir
+    from locustjump.present.plots import sweep_figure
+
+    out = run / rundir.SWEEP
+    out.mkdir(exist_ok=True)
+    table = np.column_stack(
+        [sw.roll_deg, sw.training, sw.success, sw.start_uz, sw.final_uz,
+         sw.time_to_get_up_s]
+    )  # fmt: skip
+
+    def write(f) -> None:
+        np.savetxt(
+            f,
+            table,
+            delimiter=",",
+            header="angle_deg,training,success,start_uz,final_uz,time_to_get_up_s",
+            comments="",
+            fmt=["%.6g", "%d", "%d", "%.6f", "%.6f", "%.6g"],
+        )
+
+    rundir.atomic_write_bytes(out / SWEEP_CSV, write)
+    sweep_figure(out / SWEEP_PNG, sw)
+    return [out / SWEEP_CSV, out / SWEEP_PNG]
+
+
+def sweep_run(
+    path: str | os.PathLike,
+    angles: np.ndarray,
+    *,
+    backend: Backend | None = None,
+) -> tuple[Sweep, list[Path]]:
+    """The get-up generalisation test of getup run ``path``'s best genome from
+    roll ``angles`` (plus the training states): ``DIR/sweep/sweep.csv`` and
+    ``sweep.png``."""
+    from locustjump import rundir
+    from locustjump.errors import UserError
+
+    cfg, _, best = rundir.load_run(path)
+    if cfg.behaviour != GetUp.name:
+        raise UserError(
+            f"{path}: holds a {cfg.behaviour!r} run; sweep-getup needs a getup run"
+        )
+    sw = sweep_getup(best.genome, cfg.model, angles, backend=backend)
+    with rundir.locked(path):
+        return sw, write_sweep(Path(path), sw)

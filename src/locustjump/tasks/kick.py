@@ -1,0 +1,199 @@
+"""Behaviour Simple 1: kicking the ground (paper §3.1, Fig. 6–7).
+
+* start: the settled ready-to-jump posture of Fig. 4 (keyframe ``ready``);
+* episode: 300 control steps (2.5 s);
+* fitness (Eq. 1, SPEC): ``E = max_t max(dx_t, 0) * max(dz_t, 0)``, with
+  ``dx, dz`` the body centre's displacement from its start position: the area
+  of the rectangle from the start point to the highest-and-furthest point of
+  the jump. Unit: m^2.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from locustjump.rundir.layout import EVAL
+from locustjump.sim import model as lm
+from locustjump.sim.analysis import find_jumps
+from locustjump.sim.engine.rollout import RolloutResult, StartStates
+from locustjump.sim.model import CONTROL_DT
+from locustjump.tasks.base import Behaviour, Claim, StepReward, fmt, yes
+
+if TYPE_CHECKING:
+    from locustjump.sim.engine.backends import Backend
+
+FIGURE = "kick_vs_rules.png"  # Fig. 7
+#: The paper (Fig. 7): the evolved kick jumps about 2x as high as the rule.
+PAPER_KICK_RATIO = 2.0
+#: What we count as "about 2x" (stated in results.md).
+KICK_RATIO_OK = 1.8
+#: Why "2x" fails, as measured by the ceiling study (docs/science.md).
+KICK_WHY = (
+    "no controller found rises more than 1.27x as high as the rule's first "
+    "jump (1.24x at 12 substeps) — CMA-ES and the RCGA maximising the apex "
+    "itself, with the network or open-loop (`scripts/study.sh ceiling`, "
+    "docs/science.md): our rule already reaches 79 % of the creature's "
+    "ceiling, so 2x is not physically possible against it; a rule kicking at "
+    "6 deg/step or slower would make it true"
+)
+
+
+@functools.lru_cache(maxsize=8)
+def ready_start(p: lm.LocustParams) -> StartStates:
+    """The settled Fig. 4 start state (keyframe ``ready``)."""
+    return StartStates.ready(lm.load_model(p))
+
+
+def kick_fitness(qpos: np.ndarray) -> np.ndarray:
+    """Eq. 1 for trajectories ``qpos (n, T + 1, nq)``: (n,) in m^2."""
+    d = qpos[:, :, :3] - qpos[:, :1, :3]
+    dx = np.maximum(d[:, :, 0], 0.0)
+    dz = np.maximum(d[:, :, 2], 0.0)
+    return (dx * dz).max(axis=1)
+
+
+def takeoff(qpos: np.ndarray, touch: np.ndarray, apex: int) -> tuple[int, float, float]:
+    """Take-off of the jump peaking at ``apex``: (step, speed m/s, angle deg).
+
+    Take-off is the last control step before the apex at which a hind tarsus
+    touched the ground (``touch``, bool per step); the velocity is the body
+    centre's finite difference over the next control step, in the x-z plane;
+    the angle is measured from the ground (+x) upwards.
+    """
+    on = np.flatnonzero(touch[: apex + 1])
+    t = int(on[-1]) if on.size else 0
+    v = (qpos[t + 1, :3] - qpos[t, :3]) / CONTROL_DT
+    return t, float(math.hypot(v[0], v[2])), float(math.degrees(math.atan2(v[2], v[0])))
+
+
+class KickReward(StepReward):
+    """Dense Eq. 1: the increase of ``max_{s<=t} dx_s^+ dz_s^+`` (m^2)."""
+
+    def reset(self, qpos: np.ndarray, obs: np.ndarray) -> None:
+        self._start, self._best = qpos[:3].copy(), 0.0
+
+    def step(self, qpos: np.ndarray, obs: np.ndarray) -> float:
+        d = qpos[:3] - self._start
+        area = max(d[0], 0.0) * max(d[2], 0.0)
+        gain = max(area - self._best, 0.0)
+        self._best = max(self._best, area)
+        return gain
+
+
+class Kick(Behaviour):
+    name = "kick"
+    n_steps = 300
+    record = ("qpos",)
+    worst_fitness = 0.0
+    figures = ((f"{EVAL}/{FIGURE}", "kick", "Kick vs rule-based (Fig. 7):"),)
+    headline = ("apex_height_m", "apex_height_ratio_to_rules")
+    gym_id = "LocustKick-v0"
+
+    def start_states(self, p: lm.LocustParams) -> StartStates:
+        return ready_start(p)
+
+    def episode_fitness(self, res: RolloutResult, p: lm.LocustParams) -> np.ndarray:
+        return kick_fitness(res["qpos"])
+
+    def metrics(
+        self,
+        res: RolloutResult,
+        p: lm.LocustParams,
+        genome: np.ndarray,
+        *,
+        backend: Backend | None = None,
+    ) -> dict[str, Any]:
+        """Apex height/rise/distance, take-off speed/angle, and the rule-based
+        first jump's apex for comparison (paper Fig. 7: about 2x)."""
+        from locustjump.tasks.rules import run_rules
+
+        qpos, obs = res["qpos"][0], res["obs"][0]
+        z0, x0 = qpos[0, 2], qpos[0, 0]
+        apex = int(np.argmax(qpos[:, 2]))
+        t_off, speed, angle = takeoff(qpos, obs[:, 4] < 0, apex)
+        jumps = find_jumps(qpos, p)
+        rules = run_rules(steps=2 * self.n_steps, model_params=p, backend=backend)
+        first = rules.jumps[0] if rules.jumps else None
+        out: dict[str, Any] = {
+            "fitness": float(self.fitness(res, p)[0]),
+            "apex_height_m": float(qpos[apex, 2]),
+            "apex_rise_m": float(qpos[apex, 2] - z0),
+            "apex_step": apex,
+            "distance_at_apex_m": float(qpos[apex, 0] - x0),
+            "takeoff_step": t_off,
+            "takeoff_speed_m_s": speed,
+            "takeoff_angle_deg": angle,
+            "jumps": len(jumps),
+            "first_jump_apex_height_m": jumps[0].apex_height if jumps else None,
+            "unstable": bool(res.unstable[0]),
+        }
+        # the rule-based jumping's own fitness over the same 300 steps
+        out["rules_fitness"] = float(
+            kick_fitness(rules.qpos[None, : self.n_steps + 1])[0]
+        )
+        if first is not None:  # same start state, so the same z0
+            rise = first.apex_height - z0
+            out["rules_first_apex_height_m"] = first.apex_height
+            out["rules_first_apex_rise_m"] = rise
+            out["apex_height_ratio_to_rules"] = out["apex_height_m"] / first.apex_height
+            out["apex_rise_ratio_to_rules"] = out["apex_rise_m"] / rise
+        return out
+
+    def write_figures(
+        self,
+        res: RolloutResult,
+        p: lm.LocustParams,
+        out: Path,
+        *,
+        backend: Backend | None = None,
+    ) -> list[Path]:
+        """``kick_vs_rules.png``: the paper's Fig. 7, evolved kick beside the
+        rule-based jumping over the same 300 steps."""
+        from locustjump.present.plots import trajectory_figure
+        from locustjump.tasks.rules import run_rules
+
+        qpos = res["qpos"][0]
+        rules = run_rules(steps=self.n_steps, model_params=p, backend=backend)
+        path = out / FIGURE
+        trajectory_figure(
+            path,
+            [
+                ("evolved kick", qpos, find_jumps(qpos, p)),
+                ("rule-based", rules.qpos, rules.jumps),
+            ],
+            title=f"Kicking the ground: evolved vs rule-based ({self.n_steps} steps)",
+        )
+        return [path]
+
+    def claims(self, record: dict[str, Any] | None) -> list[Claim]:
+        claim = Claim(
+            "the evolved kick jumps about 2x as high as the rule-based first jump "
+            "(Fig. 7)",
+            f"~{PAPER_KICK_RATIO:g}x",
+        )
+        if record is None:
+            return [claim]
+        k = record["metrics"]
+        ratio = k.get("apex_height_ratio_to_rules")
+        ok = ratio is not None and ratio >= KICK_RATIO_OK
+        return [
+            Claim(
+                claim.text,
+                claim.paper,
+                f"{fmt(ratio)}x ({fmt(k['apex_height_m'])} m vs "
+                f"{fmt(k.get('rules_first_apex_height_m'))} m)",
+                f"{yes(ok)} (>= {KICK_RATIO_OK}x)",
+                ratio,
+                ok,
+                "apex / rule-based first apex (x)",
+                why=KICK_WHY,
+            )
+        ]
+
+    def reward(self, p: lm.LocustParams) -> StepReward:
+        return KickReward(self, p)
