@@ -4,12 +4,13 @@ import numpy as np
 import pytest
 
 from locustjump.evo.rcga import RCGAParams
+from locustjump.present.stages import reporter_of
 from locustjump.rundir import load_run
 from locustjump.rundir.config import TrainConfig
 from locustjump.runs.trainer import train
 from locustjump.sim.controller import MLP
 from locustjump.sim.sensors import MAX_DELTA
-from locustjump.tasks import behaviour_names, get_behaviour
+from locustjump.tasks import behaviour_names
 from locustjump.tasks.ceiling import OpenLoop, apex_rise
 
 
@@ -54,4 +55,4 @@ def test_ceiling_behaviours_train_and_score_what_they_say(name, tmp_path, params
         expected = (np.maximum(d[:, :, 0], 0) * np.maximum(d[:, :, 2], 0)).max(axis=1)
     np.testing.assert_array_equal(beh.fitness(res, params), expected)
     assert best.fitness == pytest.approx(float(expected[0]), abs=1e-12)
-    assert get_behaviour(name).claims(None) == []
+    assert reporter_of(name).claims(None) == []

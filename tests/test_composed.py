@@ -345,7 +345,7 @@ def test_reproduce_cli_bad_input(tmp_path, capsys):
 
 
 def test_sign_test_over_seeds():
-    from locustjump.tasks.monolithic import sign_test
+    from locustjump.present.stages.successive import sign_test
 
     assert sign_test(0, 5) == sign_test(5, 5) == 2 / 32
     assert sign_test(1, 5) == 2 * 6 / 32

@@ -9,9 +9,8 @@ import numpy as np
 import pytest
 
 from locustjump.rundir.config import TrainConfig
-from locustjump.sim import sensors
+from locustjump.sim import kernels, sensors
 from locustjump.sim.controller import MLP
-from locustjump.sim.engine import kernels
 from locustjump.sim.engine.backends import ThreadBackend
 from locustjump.sim.engine.rollout import RolloutJob, StartStates, observer
 from locustjump.tasks import get_behaviour

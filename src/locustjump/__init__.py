@@ -22,6 +22,7 @@ if (
     if _ctypes_util.find_library("EGL"):
         _os.environ["MUJOCO_GL"] = "egl"
 
+from locustjump import moved
 from locustjump.evo import (
     CMAES,
     RCGA,
@@ -53,10 +54,12 @@ from locustjump.tasks import (
     register_behaviour,
 )
 from locustjump.tasks.rules import RuleController, run_rules
+from locustjump.version import __version__
 
-__version__ = "0.1.0"
+moved.install()  # the module paths of 0.1 (locustjump.reproduce, ...)
 
 __all__ = [
+    "__version__",
     "BEHAVIOURS",
     "CMAES",
     "CONTROL_DT",

@@ -28,7 +28,7 @@ def cmd_model(args: argparse.Namespace) -> int:
 
 
 def cmd_rules(args: argparse.Namespace) -> int:
-    from locustjump.tasks.rules import write_rules_run
+    from locustjump.present.rules import write_rules_run
 
     out = rundir.check_out_dir(args.out, force=args.force)  # made once it ran
     p = lm.LocustParams(strut_stiffness=args.strut_stiffness)
@@ -122,7 +122,8 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
 
 
 def cmd_sweep_getup(args: argparse.Namespace) -> int:
-    from locustjump.tasks.getup import sweep_angles, sweep_run
+    from locustjump.present.stages.getup import sweep_run
+    from locustjump.tasks.getup import sweep_angles
 
     angles = sweep_angles(args.step_deg, args.from_deg, args.to_deg)
     sw, files = sweep_run(args.run, angles, backend=_backend(args))
@@ -179,8 +180,8 @@ def cmd_reproduce(args: argparse.Namespace) -> int:
 
 
 def cmd_replay(args: argparse.Namespace) -> int:
+    from locustjump.present.stages import reporter_of
     from locustjump.runs.reproduce import replay
-    from locustjump.tasks import behaviour_class
 
     failed = 0
     for stage, ev in replay(
@@ -188,7 +189,7 @@ def cmd_replay(args: argparse.Namespace) -> int:
     ):
         status = "matches" if ev.matches else "DIFFERS from"
         failed += not ev.matches
-        keys = behaviour_class(stage).headline
+        keys = reporter_of(stage).headline
         shown = ", ".join(f"{k} {ev.metrics.get(k)}" for k in keys)
         print(f"[{stage}] fitness {ev.fitness:.6g} ({status} the record); {shown}")
     print(f"wrote {args.out}/<stage>/ (figures and trajectories)")

@@ -13,6 +13,7 @@ from locustjump.cli.argtypes import (
     _substeps,
 )
 from locustjump.sim import model as lm
+from locustjump.version import __version__
 
 
 class _Parser(argparse.ArgumentParser):
@@ -81,7 +82,6 @@ def _add_optimizer(p: argparse.ArgumentParser, default: str | None) -> None:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    from locustjump import __version__
     from locustjump.tasks.rules import DEFAULT_CHANGE_TIME
 
     ap = _Parser(

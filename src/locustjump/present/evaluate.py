@@ -8,6 +8,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from locustjump import rundir
+from locustjump.present.stages import reporter_of
+from locustjump.sim.engine.backends import ThreadBackend
 
 if TYPE_CHECKING:
     from locustjump.sim.engine.backends import Backend
@@ -48,8 +50,6 @@ def evaluate_run(
     ``eval/`` holds derived files only: they are rewritten on every call.
     """
     if backend is None:
-        from locustjump.sim.engine.backends import ThreadBackend
-
         backend = ThreadBackend()
     out = Path(path)
     cfg, beh, best = rundir.load_run(out)
@@ -80,5 +80,5 @@ def _write(cfg, beh, best, res, fitness, metrics, ev: Path, backend) -> Evaluati
         rundir.write_trajectory_csv(
             files[-1], res["qpos"][e], res["obs"][e], res["ctrl"][e]
         )
-    files += beh.write_figures(res, p, ev, backend=backend)
+    files += reporter_of(beh).write_figures(beh, res, p, ev, backend=backend)
     return Evaluation(cfg.behaviour, fitness, best.fitness, metrics, files)

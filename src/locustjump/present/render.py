@@ -35,6 +35,7 @@ from locustjump.sim.controller import Controller
 from locustjump.sim.engine.episode import Episode
 from locustjump.sim.engine.rollout import StartStates, rollout
 from locustjump.sim.model import CONTROL_DT
+from locustjump.tasks.rules import RuleController
 
 if TYPE_CHECKING:
     from locustjump.sim.engine.backends import Backend
@@ -43,6 +44,9 @@ CAMERAS = (names.CAMERA_TRACK, names.CAMERA_SIDE)
 VIDEO_SUFFIXES = (".mp4", ".gif")
 #: tile size (pixels) when several episodes play side by side
 TILE = (320, 240)
+#: frames per second of a reproduction's per-stage videos (a quarter of the
+#: 120 Hz control rate)
+VIDEO_FPS = 30.0
 
 
 class RenderUnavailable(UserError):
@@ -122,8 +126,6 @@ def source_of(path: str | os.PathLike) -> Source:
                 f"{out}: holds no run (no {rundir.CONFIG}) and no rule-based run "
                 f"(no {rundir.RULES_SUMMARY} + {rundir.TRAJECTORY_CSV})"
             )
-        from locustjump.tasks.rules import RuleController
-
         change_time, steps, p = rules
         rc = RuleController.for_model(p)
         return Source(

@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING, Any
 
 from locustjump import rundir
 from locustjump.errors import UserError
+from locustjump.version import __version__
 
 if TYPE_CHECKING:
     from locustjump.sim.engine.backends import Backend
@@ -202,8 +203,6 @@ def _run_section(d: Path, metrics: dict[str, Any] | None, level: int = 2) -> str
 
 
 def _page(title: str, body: str, *, heading: bool = True) -> str:
-    from locustjump import __version__
-
     return f"""<!DOCTYPE html>
 <html lang="en">
 <head>

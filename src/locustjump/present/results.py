@@ -1,8 +1,8 @@
 """``results.md`` of a reproduction: the paper's claims against ours.
 
-Every row and section comes from the behaviours' own hooks
-(:meth:`~locustjump.tasks.base.Behaviour.claims`,
-:meth:`~locustjump.tasks.base.Behaviour.report_section`, ``figures``)
+Every row and section comes from the behaviours' reporters
+(:meth:`~locustjump.present.stages.Reporter.claims`,
+:meth:`~locustjump.present.stages.Reporter.report_section`, ``figures``)
 and every number from the files of the reproduction directory: this module
 only reads.
 """
@@ -17,11 +17,8 @@ from typing import Any
 import numpy as np
 
 from locustjump import rundir
-from locustjump.tasks import behaviour_class
-from locustjump.tasks.base import Claim
-
-#: frames per second of the per-stage videos (half the 120 Hz control rate)
-VIDEO_FPS = 30.0
+from locustjump.present.render import VIDEO_FPS
+from locustjump.present.stages import Claim, reporter_of
 
 
 def stage_summary(d: Path) -> dict[str, Any]:
@@ -61,7 +58,7 @@ def results_markdown(out: Path) -> str:
         if rundir.eval_metrics_path(out / s).is_file()
     }
     missing = [s for s in stages if s not in info]
-    behaviours = {s: behaviour_class(s)() for s in stages}
+    behaviours = {s: reporter_of(s) for s in stages}
     lines = [
         f"# Reproduction of Umemura et al.: budget `{marker['budget']}`, "
         f"seed {marker['seed']}",
@@ -196,7 +193,7 @@ def seeds_markdown(out: Path) -> str:
     out = Path(out)
     marker = rundir.read_toml(out / rundir.SEEDS_MARKER)
     seeds, stages = marker["seeds"], list(marker["generations"])
-    behaviours = {s: behaviour_class(s)() for s in stages}
+    behaviours = {s: reporter_of(s) for s in stages}
     info: dict[int, dict[str, dict[str, Any]]] = {
         seed: {
             s: stage_summary(rundir.seed_dir(out, seed) / s)

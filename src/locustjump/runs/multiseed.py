@@ -51,6 +51,7 @@ from locustjump.runs.reproduce import (
 )
 from locustjump.sim import model as lm
 from locustjump.tasks import behaviour_class
+from locustjump.version import __version__
 
 if TYPE_CHECKING:
     from locustjump.sim.engine.backends import Backend
@@ -166,8 +167,6 @@ def reproduce_seeds(
     with contextlib.ExitStack() as held:
         held.enter_context(rundir.locked(out))
         _check_dir(out, want)
-        from locustjump import __version__
-
         rundir.write_toml(
             out / rundir.SEEDS_MARKER,
             {

@@ -27,11 +27,16 @@ from locustjump import rundir
 from locustjump.errors import UserError
 from locustjump.evo import params_class
 from locustjump.present.evaluate import Evaluation, evaluate_run
-from locustjump.present.results import VIDEO_FPS, results_markdown
+from locustjump.present.render import VIDEO_FPS, RenderUnavailable, render_run
+from locustjump.present.report import write_report
+from locustjump.present.results import results_markdown
+from locustjump.present.rules import write_rules_run
+from locustjump.present.stages import reporter_of
 from locustjump.rundir.config import TrainConfig
 from locustjump.runs.trainer import train
 from locustjump.sim import model as lm
 from locustjump.tasks import behaviour_class
+from locustjump.version import __version__
 
 if TYPE_CHECKING:
     from locustjump.sim.engine.backends import Backend
@@ -106,8 +111,6 @@ def _check_dir(out: Path, want: dict[str, Any]) -> None:
 
 def run_rules_stage(out: Path, *, backend: Backend | None = None) -> dict[str, Any]:
     """The rule-based baseline: ``rules/trajectory.{csv,png}``, ``summary.json``."""
-    from locustjump.tasks.rules import write_rules_run
-
     t0 = time.perf_counter()
     r = write_rules_run(out, steps=3000, backend=backend)
     summary = rundir.read_json(out / rundir.RULES_SUMMARY)
@@ -219,8 +222,6 @@ def start_reproduction(
     if rundir.is_reproduction(out):
         return
     engine = engine or lm.LocustParams().engine
-    from locustjump import __version__
-
     rundir.write_toml(
         out / rundir.MARKER,
         {
@@ -285,7 +286,9 @@ def run_stage(
     t0 = time.perf_counter()
     ev = evaluate_run(d, backend=backend)
     run_cfg, beh, best = rundir.load_run(d)
-    extra = beh.extra_evaluation(d, best.genome, run_cfg.model, backend=backend)
+    extra = reporter_of(beh).extra_evaluation(
+        beh, d, best.genome, run_cfg.model, backend=backend
+    )
     rundir.write_json(
         rundir.eval_metrics_path(d),
         {**ev.to_dict(), **extra, "eval_wall_s": time.perf_counter() - t0},
@@ -307,8 +310,6 @@ def finish_reproduction(
         render_videos(out, backend=backend, log=log)
     rundir.atomic_write_text(path, results_markdown(out))
     log(f"wrote {path}")
-    from locustjump.present.report import write_report
-
     log(f"wrote {write_report(out)}")
     return path
 
@@ -322,8 +323,6 @@ def render_videos(
 ) -> list[Path]:
     """``<stage>/video.mp4`` for every stage of reproduction ``out`` that has
     none yet; skipped, with the reason logged, where rendering is unavailable."""
-    from locustjump.present.render import RenderUnavailable, render_run
-
     made = []
     for stage in STAGES:
         d = Path(out) / stage

@@ -26,6 +26,7 @@ from typing import Any, Literal, NamedTuple, Protocol, runtime_checkable
 
 import numpy as np
 
+from locustjump.sim.kernels import OUTPUTS, soa
 from locustjump.sim.sensors import MAX_DELTA, N_ACTUATORS, N_INPUTS
 
 
@@ -148,10 +149,8 @@ class MLP:
         return self.apply(prepared, obs), memory
 
     def kernel(self, prepared: MLPWeights) -> tuple:
-        """The compiled path's form of ``act`` (:mod:`locustjump.sim.engine.kernels`):
+        """The compiled path's form of ``act`` (:mod:`locustjump.sim.kernels`):
         the weights episode-last and the output code."""
-        from locustjump.sim.engine.kernels import OUTPUTS, soa
-
         return ("mlp", tuple(soa(w) for w in prepared), OUTPUTS[self.output])
 
     def random_genomes(

@@ -48,7 +48,7 @@ _RANGES: dict[str, tuple[float, float, bool]] = {
 }
 _INTEGRATORS = ("Euler", "RK4", "implicit", "implicitfast")
 #: How the controller's arithmetic is computed between physics steps
-#: (:mod:`~locustjump.sim.engine.kernels`): NumPy, or one compiled kernel per
+#: (:mod:`~locustjump.sim.kernels`): NumPy, or one compiled kernel per
 #: control step.
 #: Runs made before the compiled path hold no ``engine`` key: "numpy".
 ENGINES = ("numpy", "numba")

@@ -1,6 +1,7 @@
-"""The behaviours: start states + episode length + fitness + their own hooks,
-one module each (:class:`~locustjump.tasks.base.Behaviour` lists the
-hooks).
+"""The behaviours as task specs: start states + episode length + controller
++ fitness, one module each (:class:`~locustjump.tasks.base.Behaviour` lists
+the hooks); the rule-based jumper (:mod:`.rules`) is the reference they are
+compared with.
 
 ``get_behaviour(name)`` returns one; ``behaviour_names()`` lists the names
 the command line accepts. A new behaviour is a subclass registered with
@@ -14,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from locustjump.tasks.base import Behaviour, Claim
+from locustjump.tasks.base import Behaviour
 from locustjump.tasks.ceiling import CEILING
 from locustjump.tasks.composed import SIMPLE, Composed
 from locustjump.tasks.getup import GetUp
@@ -79,7 +80,6 @@ __all__ = [
     "BEHAVIOURS",
     "SIMPLE_BEHAVIOURS",
     "Behaviour",
-    "Claim",
     "Composed",
     "GetUp",
     "Kick",

@@ -1,19 +1,18 @@
-"""What a behaviour is: start states, an episode length, a fitness, and the
-hooks the layers above call (figures, metrics, extra evaluations, rows of the
-results table, the Gymnasium reward), so that no other module needs to know
-which behaviour it runs."""
+"""What a behaviour is: a task spec. Start states, an episode length, the
+controller, a fitness (maximised), its metrics and the per-step reward of its
+Gymnasium environment, so that no other module needs to know which behaviour
+it runs. How a behaviour is shown (figures, rows of ``results.md``) is the
+presentation layer's (:mod:`locustjump.present.stages`)."""
 
 from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass
-from pathlib import Path
 from typing import TYPE_CHECKING, Any, ClassVar
 
 import mujoco
 import numpy as np
 
-from locustjump.rundir.layout import EVAL, TRAJECTORY_PNG
 from locustjump.sim import model as lm
 from locustjump.sim.controller import MLP, Controller
 from locustjump.sim.engine.rollout import RolloutResult, StartStates, rollout
@@ -57,43 +56,6 @@ def settle(
     mujoco.mj_step(m, d, nstep=round(seconds / m.opt.timestep))
     d.qpos[:2] = 0.0
     return StartStates(d.qpos[None].copy(), d.qvel[None].copy(), d.ctrl[None].copy())
-
-
-@dataclass(frozen=True)
-class Claim:
-    """One row of ``results.md``: a claim of the paper and how ours compares.
-
-    ``ours`` is ``None`` while the stage has not run yet. ``value`` (what
-    ``measure`` names) and ``ok`` are the number and the verdict as data, which
-    the summary across seeds reduces to a median, a range and a count. ``why``,
-    printed under the table when the claim fails, says what a study measured
-    about the reason (docs/science.md), not this run.
-    """
-
-    text: str  # the claim, as the paper makes it (figure in parentheses)
-    paper: str  # the paper's number
-    ours: str | None = None  # our number
-    verdict: str = "-"  # "**yes**"/"no" and our criterion in parentheses
-    value: float | None = None  # the number the verdict is about
-    ok: bool | None = None  # reproduced by our criterion
-    measure: str = ""  # what ``value`` is, with its unit
-    why: str = ""  # what is known of why it fails, beyond this run (a study)
-
-    def row(self) -> str:
-        ours = (
-            "not run yet | -" if self.ours is None else f"{self.ours} | {self.verdict}"
-        )
-        return f"| {self.text} | {self.paper} | {ours} |"
-
-
-def yes(ok: bool) -> str:
-    """The verdict word of a claim row."""
-    return "**yes**" if ok else "no"
-
-
-def fmt(x: float | None, spec: str = ".2f") -> str:
-    """A number of a claim row; ``n/a`` where there is none."""
-    return "n/a" if x is None else format(x, spec)
 
 
 #: the finest physics a fitness may also be scored at (substeps a control step)
@@ -161,16 +123,14 @@ class Behaviour:
     ==========================  ================================================
     ``requires``                runs whose best genomes it builds on (frozen)
     ``controller``              the evolved network (default: the 9-10-4 MLP)
-    :meth:`write_figures`       its figures (named in ``figures``)
-    :meth:`extra_evaluation`    evaluations beyond the episodes (getup's sweep)
-    :meth:`claims`              its rows of ``results.md``
-    :meth:`report_section`      a section of ``results.md`` of its own
-    ``headline``                the metrics ``locustjump replay`` prints
     ``memory_labels``           what memory[0] indexes (a video's caption)
     ``gym_id``, :meth:`reward`  its Gymnasium environment and per-step reward
     ``Options``                 its settings beyond the paper (a frozen
                                 dataclass; ``[options]`` of ``config.toml``)
     ==========================  ================================================
+
+    Its figures and rows of ``results.md``: a
+    :class:`~locustjump.present.stages.Reporter` registered for it.
     """
 
     name: ClassVar[str]
@@ -180,11 +140,6 @@ class Behaviour:
     eval_record: ClassVar[tuple[str, ...]] = ("qpos", "obs", "ctrl")
     worst_fitness: ClassVar[float] = 0.0
     requires: ClassVar[tuple[str, ...]] = ()
-    #: (file in the run directory, alt text, caption in results.md)
-    figures: ClassVar[tuple[tuple[str, str, str], ...]] = (
-        (f"{EVAL}/{TRAJECTORY_PNG}", "trajectory", ""),
-    )
-    headline: ClassVar[tuple[str, ...]] = ("fitness",)
     memory_labels: ClassVar[tuple[str, ...] | None] = None
     gym_id: ClassVar[str | None] = None
     Options: ClassVar[type] = CommonOptions
@@ -231,50 +186,6 @@ class Behaviour:
     def state_labels(self) -> list[str]:
         """A file-name-safe label per start state."""
         return ["start"]
-
-    def write_figures(
-        self,
-        res: RolloutResult,
-        p: lm.LocustParams,
-        out: Path,
-        *,
-        backend: Backend | None = None,
-    ) -> list[Path]:
-        """Figures of one controller's episodes into directory ``out``."""
-        from locustjump.present.plots import trajectory_figure
-        from locustjump.sim.analysis import find_jumps
-
-        path = out / TRAJECTORY_PNG
-        qpos = res["qpos"][0]
-        trajectory_figure(path, [(self.name, qpos, find_jumps(qpos, p))])
-        return [path]
-
-    def extra_evaluation(
-        self,
-        run: Path,
-        genome: np.ndarray,
-        p: lm.LocustParams,
-        *,
-        backend: Backend | None = None,
-    ) -> dict[str, Any]:
-        """Evaluations beyond the episodes, written into run directory ``run``;
-        the numbers they give (merged into ``eval/metrics.json``)."""
-        return {}
-
-    def claims(self, record: dict[str, Any] | None) -> list[Claim]:
-        """Rows of ``results.md`` from this stage's ``eval/metrics.json``
-        (``None``: not run yet)."""
-        return []
-
-    def report_section(self, stages: dict[str, dict[str, Any]]) -> list[str]:
-        """Markdown lines of a ``results.md`` section of its own, from every
-        finished stage's summary (``locustjump.present.results.stage_summary``)."""
-        return []
-
-    def across_seeds(self, seeds: dict[int, dict[str, dict[str, Any]]]) -> list[str]:
-        """Markdown lines of its own section of a reproduction over several
-        seeds: ``seeds`` maps each seed to its finished stages' summaries."""
-        return []
 
     def reward(self, p: lm.LocustParams) -> StepReward:
         """Per-step rewards of the Gymnasium environment (sum = fitness)."""

@@ -17,15 +17,14 @@ episode are the kick's.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 
 from locustjump.sim import model as lm
 from locustjump.sim.controller import Controller
-from locustjump.sim.engine.rollout import RolloutResult
+from locustjump.sim.engine.job import RolloutResult
 from locustjump.sim.sensors import MAX_DELTA, N_ACTUATORS
-from locustjump.tasks.base import Claim, StepReward
+from locustjump.tasks.base import StepReward
 from locustjump.tasks.kick import Kick
 
 #: Control steps per block of the open-loop controller (1/24 s).
@@ -98,9 +97,6 @@ class KickApex(Kick):
     def episode_fitness(self, res: RolloutResult, p: lm.LocustParams) -> np.ndarray:
         return apex_rise(res["qpos"])
 
-    def claims(self, record: dict[str, Any] | None) -> list[Claim]:
-        return []  # not the paper's experiment
-
     def reward(self, p: lm.LocustParams) -> StepReward:
         return StepReward(self, p)  # sparse: the apex rise at the last step
 
@@ -114,9 +110,6 @@ class OpenLoopKick(Kick):
     @property
     def controller(self) -> Controller:
         return OpenLoop.covering(self.n_steps)
-
-    def claims(self, record: dict[str, Any] | None) -> list[Claim]:
-        return []
 
 
 class OpenLoopKickApex(OpenLoopKick, KickApex):

@@ -14,31 +14,24 @@ behaviours (paper §4, Fig. 11–12).
   3000 for the mean height).
 
 :mod:`.monolithic` adds the baseline beyond the paper on the same episode
-and fitness (``_Successive``).
+and fitness (``Successive``).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from locustjump.rundir.layout import EVAL
 from locustjump.sim import model as lm
 from locustjump.sim.analysis import find_jumps
 from locustjump.sim.controller import MLP, Controller, MLPWeights
-from locustjump.sim.engine.rollout import RolloutResult, StartStates
-from locustjump.tasks.base import (
-    Behaviour,
-    Claim,
-    CommonOptions,
-    StepReward,
-    fmt,
-    yes,
-)
+from locustjump.sim.engine.job import RolloutResult, StartStates
+from locustjump.sim.kernels import soa
+from locustjump.tasks.base import Behaviour, CommonOptions, StepReward
 from locustjump.tasks.getup import SUCCESS_UZ, rolled_starts
+from locustjump.tasks.rules import run_rules
 
 if TYPE_CHECKING:
     from locustjump.sim.engine.backends import Backend
@@ -51,15 +44,6 @@ SWITCH_EVERY = 120
 START_ROLL = 90.0
 #: U_z below this counts as overturned (on its side or back).
 OVERTURNED_UZ = 0.0
-#: The paper (Fig. 12): every composed jump is more than 2x the rule's.
-PAPER_COMPOSED_RATIO = 2.0
-#: Why it fails, as measured by the ceiling study (docs/science.md).
-COMPOSED_WHY = (
-    "a take-off from the ready posture rises at most 1.27x as high as the "
-    "rule's first jump (the kick's ceiling, docs/science.md), so no composed "
-    "jump is 2x the rule's unless it gains height from its landings, which "
-    "we saw only on the 3-substep physics (bounces of 3.5-6 m; docs/science.md)"
-)
 
 
 @dataclass(frozen=True)
@@ -115,8 +99,6 @@ class SwitchingController:
     def kernel(self, prepared: tuple[MLPWeights, MLPWeights]) -> tuple:
         """The compiled path's form of ``act`` (:func:`~.kernels.switch`):
         the switcher's and the simple networks' weights episode-last."""
-        from locustjump.sim.engine.kernels import soa
-
         switcher, simple = prepared
         n = switcher.w1.shape[0]
         # (3, ..., n): every episode holds each simple network
@@ -175,15 +157,14 @@ class HeightReward(StepReward):
         return float(qpos[2])
 
 
-class _Successive(Behaviour):
+class Successive(Behaviour):
     """Shared by the composed and the monolithic behaviour: start, episode,
-    fitness, metrics and figures."""
+    fitness and metrics."""
 
     n_steps = 3000
     record = ("qpos",)
     worst_fitness = 0.0
     eval_record = ("qpos", "obs", "ctrl", "memory")
-    headline = ("jumps", "apex_heights_m")
 
     def start_states(self, p: lm.LocustParams) -> StartStates:
         return rolled_starts(p, (START_ROLL,))
@@ -201,8 +182,6 @@ class _Successive(Behaviour):
     ) -> dict[str, Any]:
         """Jumps and their apexes, distance, overturns, and each jump's apex
         over the rule-based jumps' mean apex (paper: > 2x at every jump)."""
-        from locustjump.tasks.rules import run_rules
-
         qpos, uz = res["qpos"][0], res["obs"][0, :, 8]
         jumps = find_jumps(qpos, p)
         rules = run_rules(steps=self.n_steps, model_params=p, backend=backend)
@@ -235,55 +214,16 @@ class _Successive(Behaviour):
             }
         return out
 
-    def write_figures(
-        self,
-        res: RolloutResult,
-        p: lm.LocustParams,
-        out: Path,
-        *,
-        backend: Backend | None = None,
-    ) -> list[Path]:
-        """``composed.png``: the paper's Fig. 12, the trajectory over the
-        rule-based one and, under it, which simple behaviour was selected."""
-        from locustjump.present.plots import composed_figure
-        from locustjump.tasks.rules import run_rules
-
-        qpos = res["qpos"][0]
-        rules = run_rules(steps=self.n_steps, model_params=p, backend=backend)
-        selected = res["memory"][0, 1:, 0] if "memory" in res.records else None
-        path = out / f"{self.name}.png"
-        composed_figure(
-            path,
-            [
-                (self.name, qpos, find_jumps(qpos, p)),
-                ("rule-based", rules.qpos, rules.jumps),
-            ],
-            selected,
-            SIMPLE,
-            title=f"Successive jumping: {self.name} vs rule-based "
-            f"({self.n_steps} steps)",
-        )
-        return [path]
-
     def reward(self, p: lm.LocustParams) -> StepReward:
         return HeightReward(self, p)
 
 
-class Composed(_Successive):
+class Composed(Successive):
     """The paper's Behaviour Composed; builds on the three simple runs."""
 
     name = "composed"
     requires = SIMPLE
     memory_labels = SIMPLE
-    figures = (
-        (
-            f"{EVAL}/composed.png",
-            "composed",
-            "Successive jumping by the composed controller, with the selected "
-            "simple behaviour (Fig. 12):",
-        ),
-    )
-    headline = ("jumps", "apex_heights_m", "min_apex_ratio_to_rules")
     Options = SwitchOptions
 
     @property
@@ -295,35 +235,10 @@ class Composed(_Successive):
             )
         return SwitchingController(self.frozen, every=self.options.switch_every)
 
-    def claims(self, record: dict[str, Any] | None) -> list[Claim]:
-        claim = Claim(
-            "every composed jump is more than 2x as high as the rule-based jumps "
-            "(Fig. 12)",
-            f"> {PAPER_COMPOSED_RATIO:g}x at every jump",
-        )
-        if record is None:
-            return [claim]
-        c = record["metrics"]
-        ratios = c.get("apex_ratios_to_rules", [])
-        low = min(ratios) if ratios else None
-        ok = c["jumps"] >= 2 and low is not None and low > PAPER_COMPOSED_RATIO
-        return [
-            Claim(
-                claim.text,
-                claim.paper,
-                f"{c['jumps']} jumps, smallest ratio {fmt(low)}x (rule-based mean "
-                f"apex {fmt(c.get('rules_mean_apex_height_m'))} m)",
-                f"{yes(ok)} (>= 2 jumps, each > 2x)",
-                low,
-                ok,
-                "smallest jump / rule-based mean apex (x)",
-                why=COMPOSED_WHY,
-            )
-        ]
-
 
 __all__ = [
     "SIMPLE",
+    "Successive",
     "SWITCH_EVERY",
     "Composed",
     "SwitchingController",

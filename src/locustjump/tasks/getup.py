@@ -14,18 +14,17 @@
 from __future__ import annotations
 
 import functools
-import os
 from dataclasses import dataclass
-from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from locustjump.rundir.layout import EVAL, SWEEP, SWEEP_CSV, SWEEP_PNG
 from locustjump.sim import model as lm
-from locustjump.sim.engine.rollout import RolloutResult, StartStates, rollout
+from locustjump.sim.engine.job import RolloutResult, StartStates, rollout_bytes
+from locustjump.sim.engine.rollout import rollout
 from locustjump.sim.model import CONTROL_DT
-from locustjump.tasks.base import Behaviour, Claim, StepReward, fmt, settle, yes
+from locustjump.sim.resources import require_memory
+from locustjump.tasks.base import Behaviour, StepReward, settle
 
 if TYPE_CHECKING:
     from locustjump.sim.engine.backends import Backend
@@ -33,9 +32,6 @@ if TYPE_CHECKING:
 TRAIN_ROLLS: tuple[float, ...] = (90.0, 135.0, 180.0, 225.0, 270.0)  # (deg)
 SUCCESS_UZ = 0.9
 SETTLE_SECONDS = 3.0  # rocking on the back dies out by then (docs/behaviours.md)
-FIGURE = "getup.png"  # Fig. 9
-#: The paper's generalisation test: got up from 65 of 180 sweep states.
-PAPER_SWEEP = 65
 
 
 @functools.lru_cache(maxsize=16)
@@ -96,15 +92,6 @@ class GetUp(Behaviour):
     record = ("obs",)
     worst_fitness = -1.0
     rolls = TRAIN_ROLLS
-    figures = (
-        (
-            f"{EVAL}/{FIGURE}",
-            "getup",
-            "Getting up from the five start states (Fig. 9) and the sweep:",
-        ),
-        (f"{SWEEP}/{SWEEP_PNG}", "sweep", ""),
-    )
-    headline = ("got_up_from",)
     gym_id = "LocustGetUp-v0"
 
     def start_states(self, p: lm.LocustParams) -> StartStates:
@@ -139,64 +126,6 @@ class GetUp(Behaviour):
             "unstable": int(res.unstable.sum()),
         }
 
-    def write_figures(
-        self,
-        res: RolloutResult,
-        p: lm.LocustParams,
-        out: Path,
-        *,
-        backend: Backend | None = None,
-    ) -> list[Path]:
-        """``getup.png``: the paper's Fig. 9, U_z over time from each state."""
-        from locustjump.present.plots import getup_figure
-
-        path = out / FIGURE
-        getup_figure(path, up_z(res), self.rolls, SUCCESS_UZ)
-        return [path]
-
-    def extra_evaluation(
-        self,
-        run: Path,
-        genome: np.ndarray,
-        p: lm.LocustParams,
-        *,
-        backend: Backend | None = None,
-    ) -> dict[str, Any]:
-        """The paper's generalisation test (180 states): ``run/sweep/``."""
-        sw = sweep_getup(genome, p, sweep_angles(), backend=backend)
-        write_sweep(Path(run), sw)
-        return {"sweep_got_up": sw.got_up, "sweep_states": sw.n_sweep}
-
-    def claims(self, record: dict[str, Any] | None) -> list[Claim]:
-        five = Claim("gets up from all 5 training states (Fig. 9)", "5 of 5")
-        sweep = Claim("gets up from 65 of 180 sweep states", f"{PAPER_SWEEP} of 180")
-        if record is None:
-            return [five, sweep]
-        got_up = sum(record["metrics"]["success"])
-        n_sweep = record.get("sweep_states", 180)
-        swept = record.get("sweep_got_up")
-        ok = swept is not None and swept >= PAPER_SWEEP
-        return [
-            Claim(
-                five.text,
-                five.paper,
-                f"{got_up} of 5",
-                yes(got_up == 5),
-                got_up,
-                got_up == 5,
-                "training states got up (of 5)",
-            ),  # fmt: skip
-            Claim(
-                sweep.text,
-                sweep.paper,
-                f"{fmt(swept, 'd')} of {n_sweep}",
-                f"{yes(ok)} (>= 65)",
-                swept,
-                ok,
-                f"sweep states got up (of {n_sweep})",
-            ),
-        ]
-
     def reward(self, p: lm.LocustParams) -> StepReward:
         return UpReward(self, p)
 
@@ -217,9 +146,6 @@ def sweep_angles(
     n = int(np.floor((to_deg - from_deg) / step_deg + 1e-9))
     if n < 1:
         raise ValueError(f"--step-deg {step_deg:g} leaves no angle in the range")
-    from locustjump.sim.engine.rollout import rollout_bytes
-    from locustjump.sim.resources import require_memory
-
     require_memory(
         rollout_bytes(lm.load_model(), n + len(TRAIN_ROLLS), GetUp.n_steps, ("obs",)),
         f"--step-deg {step_deg:g}: a sweep of {n:,} start states",
@@ -274,52 +200,3 @@ def sweep_getup(
         np.array(rolls), training, uz[:, 0], s["final_uz"], s["success"],
         s["time_to_get_up_s"],
     )  # fmt: skip
-
-
-def write_sweep(run: Path, sw: Sweep) -> list[Path]:
-    """``run/sweep/sweep.csv`` and ``sweep.png`` of a sweep."""
-    from locustjump import rundir
-    from locustjump.present.plots import sweep_figure
-
-    out = run / rundir.SWEEP
-    out.mkdir(exist_ok=True)
-    table = np.column_stack(
-        [sw.roll_deg, sw.training, sw.success, sw.start_uz, sw.final_uz,
-         sw.time_to_get_up_s]
-    )  # fmt: skip
-
-    def write(f) -> None:
-        np.savetxt(
-            f,
-            table,
-            delimiter=",",
-            header="angle_deg,training,success,start_uz,final_uz,time_to_get_up_s",
-            comments="",
-            fmt=["%.6g", "%d", "%d", "%.6f", "%.6f", "%.6g"],
-        )
-
-    rundir.atomic_write_bytes(out / SWEEP_CSV, write)
-    sweep_figure(out / SWEEP_PNG, sw)
-    return [out / SWEEP_CSV, out / SWEEP_PNG]
-
-
-def sweep_run(
-    path: str | os.PathLike,
-    angles: np.ndarray,
-    *,
-    backend: Backend | None = None,
-) -> tuple[Sweep, list[Path]]:
-    """The get-up generalisation test of getup run ``path``'s best genome from
-    roll ``angles`` (plus the training states): ``DIR/sweep/sweep.csv`` and
-    ``sweep.png``."""
-    from locustjump import rundir
-    from locustjump.errors import UserError
-
-    cfg, _, best = rundir.load_run(path)
-    if cfg.behaviour != GetUp.name:
-        raise UserError(
-            f"{path}: holds a {cfg.behaviour!r} run; sweep-getup needs a getup run"
-        )
-    sw = sweep_getup(best.genome, cfg.model, angles, backend=backend)
-    with rundir.locked(path):
-        return sw, write_sweep(Path(path), sw)

@@ -12,35 +12,19 @@ from __future__ import annotations
 
 import functools
 import math
-from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from locustjump.rundir.layout import EVAL
 from locustjump.sim import model as lm
 from locustjump.sim.analysis import find_jumps
-from locustjump.sim.engine.rollout import RolloutResult, StartStates
+from locustjump.sim.engine.job import RolloutResult, StartStates
 from locustjump.sim.model import CONTROL_DT
-from locustjump.tasks.base import Behaviour, Claim, StepReward, fmt, yes
+from locustjump.tasks.base import Behaviour, StepReward
+from locustjump.tasks.rules import run_rules
 
 if TYPE_CHECKING:
     from locustjump.sim.engine.backends import Backend
-
-FIGURE = "kick_vs_rules.png"  # Fig. 7
-#: The paper (Fig. 7): the evolved kick jumps about 2x as high as the rule.
-PAPER_KICK_RATIO = 2.0
-#: What we count as "about 2x" (stated in results.md).
-KICK_RATIO_OK = 1.8
-#: Why "2x" fails, as measured by the ceiling study (docs/science.md).
-KICK_WHY = (
-    "no controller found rises more than 1.27x as high as the rule's first "
-    "jump (1.24x at 12 substeps) — CMA-ES and the RCGA maximising the apex "
-    "itself, with the network or open-loop (`scripts/study.sh ceiling`, "
-    "docs/science.md): our rule already reaches 79 % of the creature's "
-    "ceiling, so 2x is not physically possible against it; a rule kicking at "
-    "6 deg/step or slower would make it true"
-)
 
 
 @functools.lru_cache(maxsize=8)
@@ -90,8 +74,6 @@ class Kick(Behaviour):
     n_steps = 300
     record = ("qpos",)
     worst_fitness = 0.0
-    figures = ((f"{EVAL}/{FIGURE}", "kick", "Kick vs rule-based (Fig. 7):"),)
-    headline = ("apex_height_m", "apex_height_ratio_to_rules")
     gym_id = "LocustKick-v0"
 
     def start_states(self, p: lm.LocustParams) -> StartStates:
@@ -110,8 +92,6 @@ class Kick(Behaviour):
     ) -> dict[str, Any]:
         """Apex height/rise/distance, take-off speed/angle, and the rule-based
         first jump's apex for comparison (paper Fig. 7: about 2x)."""
-        from locustjump.tasks.rules import run_rules
-
         qpos, obs = res["qpos"][0], res["obs"][0]
         z0, x0 = qpos[0, 2], qpos[0, 0]
         apex = int(np.argmax(qpos[:, 2]))
@@ -143,57 +123,6 @@ class Kick(Behaviour):
             out["apex_height_ratio_to_rules"] = out["apex_height_m"] / first.apex_height
             out["apex_rise_ratio_to_rules"] = out["apex_rise_m"] / rise
         return out
-
-    def write_figures(
-        self,
-        res: RolloutResult,
-        p: lm.LocustParams,
-        out: Path,
-        *,
-        backend: Backend | None = None,
-    ) -> list[Path]:
-        """``kick_vs_rules.png``: the paper's Fig. 7, evolved kick beside the
-        rule-based jumping over the same 300 steps."""
-        from locustjump.present.plots import trajectory_figure
-        from locustjump.tasks.rules import run_rules
-
-        qpos = res["qpos"][0]
-        rules = run_rules(steps=self.n_steps, model_params=p, backend=backend)
-        path = out / FIGURE
-        trajectory_figure(
-            path,
-            [
-                ("evolved kick", qpos, find_jumps(qpos, p)),
-                ("rule-based", rules.qpos, rules.jumps),
-            ],
-            title=f"Kicking the ground: evolved vs rule-based ({self.n_steps} steps)",
-        )
-        return [path]
-
-    def claims(self, record: dict[str, Any] | None) -> list[Claim]:
-        claim = Claim(
-            "the evolved kick jumps about 2x as high as the rule-based first jump "
-            "(Fig. 7)",
-            f"~{PAPER_KICK_RATIO:g}x",
-        )
-        if record is None:
-            return [claim]
-        k = record["metrics"]
-        ratio = k.get("apex_height_ratio_to_rules")
-        ok = ratio is not None and ratio >= KICK_RATIO_OK
-        return [
-            Claim(
-                claim.text,
-                claim.paper,
-                f"{fmt(ratio)}x ({fmt(k['apex_height_m'])} m vs "
-                f"{fmt(k.get('rules_first_apex_height_m'))} m)",
-                f"{yes(ok)} (>= {KICK_RATIO_OK}x)",
-                ratio,
-                ok,
-                "apex / rule-based first apex (x)",
-                why=KICK_WHY,
-            )
-        ]
 
     def reward(self, p: lm.LocustParams) -> StepReward:
         return KickReward(self, p)

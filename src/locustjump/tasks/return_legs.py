@@ -13,23 +13,17 @@ Fig. 10).
 from __future__ import annotations
 
 import functools
-from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from locustjump.rundir.layout import EVAL
 from locustjump.sim import model as lm
 from locustjump.sim import names
-from locustjump.sim.engine.rollout import RolloutResult, StartStates
-from locustjump.tasks.base import Behaviour, Claim, StepReward, settle, yes
+from locustjump.sim.engine.job import RolloutResult, StartStates
+from locustjump.tasks.base import Behaviour, StepReward, settle
 
 if TYPE_CHECKING:
     from locustjump.sim.engine.backends import Backend
-
-FIGURE = "return_legs.png"  # Fig. 10
-#: What we count as "the legs return to phi" (stated in results.md).
-LEGS_ERROR_OK_DEG = 5.0
 
 
 @functools.lru_cache(maxsize=8)
@@ -58,8 +52,6 @@ class ReturnLegs(Behaviour):
     n_steps = 1000
     record = ("obs",)
     worst_fitness = -4 * np.pi  # beyond any reachable error
-    figures = ((f"{EVAL}/{FIGURE}", "return-legs", "Returning the legs (Fig. 10):"),)
-    headline = ("final_error_deg",)
     gym_id = "LocustReturnLegs-v0"
 
     def start_states(self, p: lm.LocustParams) -> StartStates:
@@ -90,40 +82,6 @@ class ReturnLegs(Behaviour):
             "final_up_z": round(float(res["obs"][0, -1, 8]), 4),
             "unstable": bool(res.unstable[0]),
         }
-
-    def write_figures(
-        self,
-        res: RolloutResult,
-        p: lm.LocustParams,
-        out: Path,
-        *,
-        backend: Backend | None = None,
-    ) -> list[Path]:
-        """``return_legs.png``: the paper's Fig. 10, the joint angles over time
-        converging to phi."""
-        from locustjump.present.plots import joint_angles_figure
-
-        path = out / FIGURE
-        joint_angles_figure(path, res["obs"][0, :, 0:4], p.ready_angles())
-        return [path]
-
-    def claims(self, record: dict[str, Any] | None) -> list[Claim]:
-        claim = Claim("the legs return to the ready posture (Fig. 10)", "yes")
-        if record is None:
-            return [claim]
-        err = max(record["metrics"]["final_error_deg"].values())
-        return [
-            Claim(
-                claim.text,
-                claim.paper,
-                f"largest final error {err:.2f} deg",
-                f"{yes(err <= LEGS_ERROR_OK_DEG)} (every joint within "
-                f"{LEGS_ERROR_OK_DEG:g} deg)",
-                err,
-                err <= LEGS_ERROR_OK_DEG,
-                "largest final joint error (deg)",
-            )
-        ]
 
     def reward(self, p: lm.LocustParams) -> StepReward:
         return LegsReward(self, p)

@@ -18,13 +18,15 @@ came from trial and error.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 
 from locustjump.sim import model as lm
+from locustjump.sim.analysis import find_jumps
 from locustjump.sim.controller import MLP, MLPWeights
+from locustjump.sim.engine.job import StartStates
+from locustjump.sim.engine.rollout import rollout
 from locustjump.sim.model import CONTROL_DT
 from locustjump.sim.sensors import MAX_DELTA
 
@@ -159,9 +161,6 @@ def run_rules(
     """Run the rule-based successive jumping from the Fig. 4 start state
     (``backend``: where, :mod:`~.engine.backends`; ``label``: a progress bar
     on a terminal)."""
-    from locustjump.sim.analysis import find_jumps
-    from locustjump.sim.engine.rollout import StartStates, rollout
-
     if steps < 1:
         raise ValueError(f"steps must be >= 1, got {steps}")
     rc = RuleController.for_model(model_params)
@@ -184,49 +183,3 @@ def run_rules(
         float(change_time),
         bool(res.unstable[0]),
     )
-
-
-def write_rules_run(
-    out: Path,
-    change_time: float = DEFAULT_CHANGE_TIME,
-    steps: int = 3000,
-    *,
-    model_params: lm.LocustParams = lm.LocustParams(),
-    backend: Backend | None = None,
-) -> RulesRun:
-    """Run the rules and write a rule-based run directory ``out`` (created if
-    absent): ``trajectory.csv``, ``trajectory.png`` and ``summary.json``, which
-    records the creature so that a video re-simulates the same one."""
-    import dataclasses
-
-    from locustjump import rundir
-    from locustjump.present.plots import trajectory_figure
-
-    run = run_rules(
-        change_time, steps, model_params=model_params, backend=backend, label="rules"
-    )
-    out.mkdir(parents=True, exist_ok=True)
-    rundir.write_trajectory_csv(
-        out / rundir.TRAJECTORY_CSV, run.qpos, run.obs, run.ctrl
-    )
-    trajectory_figure(
-        out / rundir.TRAJECTORY_PNG,
-        [("rule-based", run.qpos, run.jumps)],
-        title=f"Rule-based successive jumping (change time {run.change_time:.3f} s)",
-    )
-    model = {
-        k: list(v) if isinstance(v, tuple) else v
-        for k, v in dataclasses.asdict(model_params).items()
-    }
-    rundir.write_json(
-        out / rundir.RULES_SUMMARY,
-        {
-            "change_time_s": run.change_time,
-            "steps": steps,
-            "jumps": len(run.jumps),
-            "apex_heights_m": [round(j.apex_height, 4) for j in run.jumps],
-            "unstable": run.unstable,
-            "model": model,
-        },
-    )
-    return run

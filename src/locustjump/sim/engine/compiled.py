@@ -1,7 +1,7 @@
 """The rollout engine's ``numba`` path: the control loop of
-:func:`locustjump.sim.engine.rollout.run_batch` with everything between two
+:func:`locustjump.sim.engine.loop.run_batch` with everything between two
 ``Batch.rollout`` calls — touch reduction, checks, inputs, records, networks,
-actuation — in one call of a compiled kernel of :mod:`locustjump.sim.engine.kernels`.
+actuation — in one call of a compiled kernel of :mod:`locustjump.sim.kernels`.
 
 A controller joins the compiled path by offering ``kernel(prepared)``
 (``MLP`` and the composed switcher do); any other controller runs its own
@@ -16,16 +16,16 @@ from mujoco.batch import Batch, SimulationError
 
 from locustjump.sim import model as lm
 from locustjump.sim import sensors
-from locustjump.sim.engine.kernels import actuate, post_step, step_mlp, step_switch
-from locustjump.sim.engine.rollout import (
+from locustjump.sim.engine.job import (
     RolloutJob,
     RolloutResult,
-    _progress,
+    progress,
     record_shapes,
 )
+from locustjump.sim.kernels import actuate, post_step, step_mlp, step_switch
 
 
-class _Step:
+class Step:
     """Everything between two physics calls, for one rollout: ``__call__``
     returns how many episodes newly failed (then it observed nothing)."""
 
@@ -74,7 +74,7 @@ class _Step:
         return failed
 
 
-def start(batch: Batch, job: RolloutJob) -> tuple[_Step, dict, np.ndarray]:
+def start(batch: Batch, job: RolloutJob) -> tuple[Step, dict, np.ndarray]:
     """Every simulation at its start state, row 0 of the records and the first
     action: the step (its state), the records and the batch's ``qpos``."""
     m, n = batch.model, job.n_episodes
@@ -88,14 +88,14 @@ def start(batch: Batch, job: RolloutJob) -> tuple[_Step, dict, np.ndarray]:
     memory = np.zeros((n, job.controller.memory_size))
     shapes = record_shapes(m.nq, job.controller.memory_size)
     rec = {k: np.empty((n, job.n_steps + 1, *shapes[k])) for k in job.record}
-    step = _Step(batch, job, sens, memory, rec)
+    step = Step(batch, job, sens, memory, rec)
     no_sub = np.empty((0, job.model_params.substeps, m.nsensordata))
     step(0, False, no_sub, np.arange(n), False, True)
     return step, rec, qpos
 
 
 def run_compiled(batch: Batch, job: RolloutJob) -> RolloutResult:
-    """:func:`locustjump.sim.engine.rollout.run_batch` on the compiled path."""
+    """:func:`locustjump.sim.engine.loop.run_batch` on the compiled path."""
     m = batch.model
     n, T, S = job.n_episodes, job.n_steps, job.model_params.substeps
     step, rec, qpos = start(batch, job)
@@ -106,7 +106,7 @@ def run_compiled(batch: Batch, job: RolloutJob) -> RolloutResult:
     no_sub = np.empty((0, S, m.nsensordata))
     frozen = False  # some episode failed: ids are the others; records freeze
     done = 0
-    bar = _progress(job)
+    bar = progress(job)
     for t in range(T):
         if bar is not None and t % 100 == 0:
             bar.update(min(100, T - t))

@@ -8,12 +8,12 @@ import numpy as np
 
 from locustjump.sim import model as lm
 from locustjump.sim import sensors
-from locustjump.sim.engine.rollout import (
-    _UNSTABLE,
+from locustjump.sim.engine.job import (
+    UNSTABLE,
+    Recorder,
     RolloutJob,
     RolloutResult,
     StartStates,
-    _Recorder,
     observer,
     record_shapes,
 )
@@ -71,7 +71,7 @@ class Episode:
         if (
             self.unstable
             or any(
-                d.warning[w].number > 0 for w in range(_UNSTABLE.start, _UNSTABLE.stop)
+                d.warning[w].number > 0 for w in range(UNSTABLE.start, UNSTABLE.stop)
             )
             or not np.isfinite(d.qpos).all()
         ):
@@ -92,7 +92,7 @@ def reference_rollout(job: RolloutJob) -> RolloutResult:
         d = ep.data
         prepared = ctl.prepare(job.params[e : e + 1])
         memory = np.zeros((1, ctl.memory_size))
-        rec = _Recorder(
+        rec = Recorder(
             job.record, 1, job.n_steps, record_shapes(ep.model.nq, ctl.memory_size)
         )
         rec.write(0, d.qpos[None], obs, d.ctrl[None], memory)

@@ -8,7 +8,7 @@ forces) keeps the maximum of the touch sensors; at the first substep of a
 control step it computes the 9 inputs of the state the previous control step
 left, records them, runs the episode's network and writes the new servo
 targets into that simulation's ``ctrl``. It calls the very kernels of
-:mod:`locustjump.sim.engine.kernels` on one episode's slices, so every number is the
+:mod:`locustjump.sim.kernels` on one episode's slices, so every number is the
 same as on the step-by-step compiled loop (:func:`~.compiled.run_compiled`),
 bit for bit (tested). The touch sensors are computed in ``mj_forward`` after the
 callback, so the callback of a substep sees those of the substep before it:
@@ -43,15 +43,15 @@ from mujoco.batch import Batch, SimulationError
 from numba import carray, cfunc, njit, types
 from numba.extending import intrinsic
 
+from locustjump.sim import kernels as K
 from locustjump.sim import model as lm
-from locustjump.sim.engine import kernels as K
 from locustjump.sim.engine import mjlayout
-from locustjump.sim.engine.compiled import _Step, run_compiled, start
-from locustjump.sim.engine.rollout import (
+from locustjump.sim.engine.compiled import Step, run_compiled, start
+from locustjump.sim.engine.job import (
     RECORDABLE,
     RolloutJob,
     RolloutResult,
-    _progress,
+    progress,
 )
 
 #: userdata[0] of a simulation this path drives
@@ -67,7 +67,7 @@ _OFF_QPOS, _OFF_CTRL, _OFF_SENS, _OFF_USER, _OFF_WARN, _OFF_NUSER = (
 #: SHA-256 of kernels.py, whose functions the cached compiled code below calls:
 #: Numba's cache notices changes to this file only, so a change there must
 #: change this line too (``tests/test_incallback.py`` says so, with the digest)
-KERNELS_SHA256 = "01bfc0355fa30eec3959c172545d9a7736a2d56113b67f476734aef9616c6c7a"
+KERNELS_SHA256 = "be07b0adc93a294f4797d76543cf9c0a1e3b660000dccccfba705f69ce6906e9"
 
 
 def kernels_digest() -> str:
@@ -301,7 +301,7 @@ def run_incallback(batch: Batch, job: RolloutJob) -> RolloutResult:
     return result
 
 
-def _context(batch: Batch, job: RolloutJob, step: _Step, rec: dict) -> tuple:
+def _context(batch: Batch, job: RolloutJob, step: Step, rec: dict) -> tuple:
     """The context array the callback reads, the touch maxima it keeps, and
     every array it points into (which must outlive the rollout)."""
     m, ctl, n = batch.model, job.controller, job.n_episodes
@@ -368,7 +368,7 @@ class _installed:
 def _step_all(batch: Batch, job: RolloutJob, substeps: int) -> None:
     """Every substep of the rollout: one call, or calls of 100 control steps
     under a progress bar; a simulation with a warning is stepped no further."""
-    bar = _progress(job)
+    bar = progress(job)
     if bar is None:
         batch.rollout(substeps, record=())
         return

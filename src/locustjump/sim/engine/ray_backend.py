@@ -16,11 +16,13 @@ process already has); ``"auto"`` or ``"HOST:PORT"`` joins a running cluster
 
 from __future__ import annotations
 
+import os
 import socket
 from typing import Any
 
 from locustjump.errors import UserError
-from locustjump.sim.engine.rollout import RolloutJob, RolloutResult
+from locustjump.sim.engine.job import RolloutJob, RolloutResult
+from locustjump.sim.engine.threads import ThreadBackend
 
 #: seconds to wait for a cluster address to answer before giving up
 CONNECT_TIMEOUT = 5.0
@@ -55,10 +57,6 @@ class _Worker:
     """A Ray actor's body: one thread backend kept across generations."""
 
     def __init__(self, threads: int):
-        import os
-
-        from locustjump.sim.engine.backends import ThreadBackend
-
         self.backend = ThreadBackend(threads)
         self._pid = os.getpid()
 
@@ -160,6 +158,12 @@ class RayBackend:
         for actor in self._actors:
             ray.kill(actor)
         self._actors = []
+
+    def __enter__(self) -> RayBackend:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
 
     def run(self, job: RolloutJob) -> RolloutResult:
         ray = _ray()

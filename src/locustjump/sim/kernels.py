@@ -3,7 +3,7 @@
 Between two ``Batch.rollout`` calls the engine reduces the touch sensors over
 the substeps, checks for blow-ups, computes the 9 inputs, records the step,
 evaluates every network and applies the actuation rule. The ``numpy`` path
-(:func:`locustjump.sim.engine.rollout.run_batch`) does that in about 20 NumPy calls,
+(:func:`locustjump.sim.engine.loop.run_batch`) does that in about 20 NumPy calls,
 ~100 µs per control step whatever the batch size; here it is one call of a
 compiled kernel over the whole batch.
 

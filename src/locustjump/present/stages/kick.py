@@ -1,0 +1,96 @@
+"""The kick's presentation (paper §3.1, Fig. 7): the evolved kick beside the
+rule-based jumping, and the claim "about 2x as high"."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from locustjump.present.plots import trajectory_figure
+from locustjump.present.stages.base import Claim, Reporter, fmt, yes
+from locustjump.rundir.layout import EVAL
+from locustjump.sim import model as lm
+from locustjump.sim.analysis import find_jumps
+from locustjump.sim.engine.job import RolloutResult
+from locustjump.tasks import Behaviour
+from locustjump.tasks.rules import run_rules
+
+if TYPE_CHECKING:
+    from locustjump.sim.engine.backends import Backend
+
+FIGURE = "kick_vs_rules.png"  # Fig. 7
+#: The paper (Fig. 7): the evolved kick jumps about 2x as high as the rule.
+PAPER_KICK_RATIO = 2.0
+#: What we count as "about 2x" (stated in results.md).
+KICK_RATIO_OK = 1.8
+#: Why "2x" fails, as measured by the ceiling study (docs/science.md).
+KICK_WHY = (
+    "no controller found rises more than 1.27x as high as the rule's first "
+    "jump (1.24x at 12 substeps) — CMA-ES and the RCGA maximising the apex "
+    "itself, with the network or open-loop (`scripts/study.sh ceiling`, "
+    "docs/science.md): our rule already reaches 79 % of the creature's "
+    "ceiling, so 2x is not physically possible against it; a rule kicking at "
+    "6 deg/step or slower would make it true"
+)
+
+
+class KickReporter(Reporter):
+    figures = ((f"{EVAL}/{FIGURE}", "kick", "Kick vs rule-based (Fig. 7):"),)
+    headline = ("apex_height_m", "apex_height_ratio_to_rules")
+
+    def write_figures(
+        self,
+        beh: Behaviour,
+        res: RolloutResult,
+        p: lm.LocustParams,
+        out: Path,
+        *,
+        backend: Backend | None = None,
+    ) -> list[Path]:
+        """``kick_vs_rules.png``: the paper's Fig. 7, evolved kick beside the
+        rule-based jumping over the same episode length."""
+        qpos = res["qpos"][0]
+        rules = run_rules(steps=beh.n_steps, model_params=p, backend=backend)
+        path = out / FIGURE
+        trajectory_figure(
+            path,
+            [
+                ("evolved kick", qpos, find_jumps(qpos, p)),
+                ("rule-based", rules.qpos, rules.jumps),
+            ],
+            title=f"Kicking the ground: evolved vs rule-based ({beh.n_steps} steps)",
+        )
+        return [path]
+
+    def claims(self, record: dict[str, Any] | None) -> list[Claim]:
+        claim = Claim(
+            "the evolved kick jumps about 2x as high as the rule-based first jump "
+            "(Fig. 7)",
+            f"~{PAPER_KICK_RATIO:g}x",
+        )
+        if record is None:
+            return [claim]
+        k = record["metrics"]
+        ratio = k.get("apex_height_ratio_to_rules")
+        ok = ratio is not None and ratio >= KICK_RATIO_OK
+        return [
+            Claim(
+                claim.text,
+                claim.paper,
+                f"{fmt(ratio)}x ({fmt(k['apex_height_m'])} m vs "
+                f"{fmt(k.get('rules_first_apex_height_m'))} m)",
+                f"{yes(ok)} (>= {KICK_RATIO_OK}x)",
+                ratio,
+                ok,
+                "apex / rule-based first apex (x)",
+                why=KICK_WHY,
+            )
+        ]
+
+
+class CeilingReporter(KickReporter):
+    """The kick's ceiling behaviours (beyond the paper): the kick's figure,
+    no claim of the paper."""
+
+    def claims(self, record: dict[str, Any] | None) -> list[Claim]:
+        return []

@@ -1,0 +1,212 @@
+"""What the engine runs and returns: start states, a rollout job (picklable,
+splittable by episode), its result, and the per-step recording and progress
+bar that every engine strategy shares."""
+
+from __future__ import annotations
+
+import functools
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+import mujoco
+import numpy as np
+
+from locustjump.sim import model as lm
+from locustjump.sim import sensors
+from locustjump.sim.controller import Controller
+
+#: What can be recorded per control step, and its per-step shape.
+RECORDABLE = ("qpos", "obs", "ctrl", "memory")
+#: MuJoCo warnings that end an episode: all of them. Bad qpos/qvel/qacc mean
+#: the simulation went unstable (MuJoCo resets its data); ``Batch.rollout``
+#: stops stepping a simulation whose warning counters rise, whichever warning.
+UNSTABLE = slice(0, int(mujoco.mjtWarning.mjNWARNING))
+
+
+@dataclass(frozen=True)
+class StartStates:
+    """Physical start states: ``qpos (k, nq)``, ``qvel (k, nv)``, ``ctrl (k, nu)``."""
+
+    qpos: np.ndarray
+    qvel: np.ndarray
+    ctrl: np.ndarray
+
+    def __post_init__(self) -> None:
+        k = self.qpos.shape[0]
+        if self.qvel.shape[0] != k or self.ctrl.shape[0] != k:
+            raise ValueError("StartStates arrays must have the same first dimension")
+
+    def __len__(self) -> int:
+        return self.qpos.shape[0]
+
+    def take(self, idx: np.ndarray | Sequence[int]) -> StartStates:
+        return StartStates(self.qpos[idx], self.qvel[idx], self.ctrl[idx])
+
+    @classmethod
+    def ready(cls, m: mujoco.MjModel) -> StartStates:
+        """The settled ready-to-jump start state of Fig. 4 (keyframe ``ready``)."""
+        key = m.key(lm.READY_KEY)
+        return cls(key.qpos[None].copy(), key.qvel[None].copy(), key.ctrl[None].copy())
+
+    @classmethod
+    def concat(cls, states: Sequence[StartStates]) -> StartStates:
+        return cls(
+            *(
+                np.concatenate([getattr(s, f) for s in states])
+                for f in ("qpos", "qvel", "ctrl")
+            )
+        )
+
+
+@dataclass(frozen=True)
+class RolloutJob:
+    """Everything one rollout needs; picklable, so any backend can ship it.
+
+    Episode ``e`` runs controller parameters ``params[e]`` from start state
+    ``e`` of ``starts`` for ``n_steps`` control steps.
+    """
+
+    model_params: lm.LocustParams
+    controller: Controller
+    params: np.ndarray  # (n, num_params)
+    starts: StartStates  # n states
+    n_steps: int
+    record: tuple[str, ...] = ("qpos", "obs")
+    label: str = ""  # a progress bar over the control steps when not empty
+
+    def __post_init__(self) -> None:
+        if self.n_steps < 1:
+            raise ValueError(f"n_steps must be >= 1, got {self.n_steps}")
+        if self.params.ndim != 2 or self.params.shape[1] != self.controller.num_params:
+            raise ValueError(
+                f"params has shape {self.params.shape}, expected "
+                f"(n, {self.controller.num_params})"
+            )
+        if self.params.shape[0] != len(self.starts):
+            raise ValueError("params and starts must have one row per episode")
+        unknown = set(self.record) - set(RECORDABLE)
+        if unknown:
+            raise ValueError(
+                f"cannot record {sorted(unknown)}; choose from {RECORDABLE}"
+            )
+
+    @property
+    def n_episodes(self) -> int:
+        return self.params.shape[0]
+
+    def split(self, k: int) -> list[RolloutJob]:
+        """At most ``k`` contiguous sub-jobs covering all episodes, in order."""
+        bounds = np.linspace(0, self.n_episodes, min(k, self.n_episodes) + 1)
+        bounds = bounds.round().astype(int)
+        return [
+            RolloutJob(
+                self.model_params,
+                self.controller,
+                self.params[a:b],
+                self.starts.take(slice(a, b)),
+                self.n_steps,
+                self.record,
+                self.label,
+            )
+            for a, b in zip(bounds[:-1], bounds[1:], strict=True)
+            if b > a
+        ]
+
+
+@dataclass
+class RolloutResult:
+    """Per-episode arrays of a rollout.
+
+    Attributes:
+      records: name -> (n, n_steps + 1, ...) array; row 0 is the start state,
+        row t the state after control step t.
+      unstable: (n,) bool, the episode went unstable and stopped.
+      steps: (n,) int, control steps actually simulated.
+    """
+
+    records: dict[str, np.ndarray]
+    unstable: np.ndarray
+    steps: np.ndarray
+    control_steps: int = field(default=0)  # total control steps simulated
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        return self.records[name]
+
+    @classmethod
+    def concat(cls, parts: Sequence[RolloutResult]) -> RolloutResult:
+        names = parts[0].records.keys()
+        return cls(
+            {k: np.concatenate([p.records[k] for p in parts]) for k in names},
+            np.concatenate([p.unstable for p in parts]),
+            np.concatenate([p.steps for p in parts]),
+            sum(p.control_steps for p in parts),
+        )
+
+
+def observer(
+    idx: lm.ModelIndex, p: lm.LocustParams
+) -> Callable[[np.ndarray, np.ndarray], np.ndarray]:
+    """``observe(qpos (n, nq), sensordata (n, nsensor)) -> (n, 9)`` paper inputs
+    of a model with addresses ``idx``."""
+    return functools.partial(
+        sensors.paper_inputs,
+        joint_adr=_as_slice(idx.qpos_joints),
+        touch_adr=_as_slice(idx.touch),
+        body_length=p.body_length,
+    )
+
+
+def _as_slice(adr: np.ndarray) -> np.ndarray | slice:
+    """Consecutive addresses as a slice (a view, no gather), else unchanged."""
+    a = np.asarray(adr)
+    if a.size and (np.diff(a) == 1).all():
+        return slice(int(a[0]), int(a[-1]) + 1)
+    return a
+
+
+def rollout_bytes(
+    m: mujoco.MjModel, n: int, n_steps: int, record: Sequence[str], nmem: int = 1
+) -> float:
+    """Estimated memory of a rollout of ``n`` episodes: the records, one
+    simulation each (its arena dominates) and the per-episode arrays."""
+    dims = record_shapes(m.nq, nmem)
+    per_step = sum(dims[k][0] for k in record) * 8.0
+    per_episode = (n_steps + 1) * per_step + m.narena + 64 * 1024
+    return float(n) * per_episode
+
+
+def record_shapes(nq: int, nmem: int) -> dict[str, tuple[int, ...]]:
+    """Per-step shape of each recordable field."""
+    return {"qpos": (nq,), "obs": (sensors.N_INPUTS,), "ctrl": (sensors.N_ACTUATORS,),
+            "memory": (nmem,)}  # fmt: skip
+
+
+def progress(job: RolloutJob):
+    """A progress bar over the control steps of a labelled job (shown on a
+    terminal only)."""
+    if not job.label:
+        return None
+    from tqdm.auto import tqdm
+
+    return tqdm(total=job.n_steps, desc=job.label, unit="step", disable=None,
+                dynamic_ncols=True)  # fmt: skip
+
+
+class Recorder:
+    """Per-step copies of the requested fields; failed episodes repeat their last."""
+
+    def __init__(self, names: Sequence[str], n: int, T: int, shape: dict):
+        self.arrays = {k: np.empty((n, T + 1, *shape[k])) for k in names}
+        self._order = tuple(RECORDABLE.index(k) for k in names)
+
+    def write(self, t, qpos, obs, ctrl, memory, frozen=None) -> None:
+        """Row ``t``; episodes flagged in ``frozen`` repeat row ``t - 1``."""
+        src = (qpos, obs, ctrl, memory)
+        for i, a in zip(self._order, self.arrays.values(), strict=True):
+            a[:, t] = src[i]
+            if frozen is not None:
+                a[frozen, t] = a[frozen, t - 1]
+
+    def fill_from(self, t: int) -> None:
+        for a in self.arrays.values():
+            a[:, t:] = a[:, t - 1 : t]

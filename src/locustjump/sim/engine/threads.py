@@ -1,0 +1,67 @@
+"""The thread backend: every episode of a job in one ``mujoco.batch.Batch``,
+stepped on C threads; the :class:`Backend` protocol every backend follows."""
+
+from __future__ import annotations
+
+import os
+from typing import Protocol
+
+from mujoco.batch import Batch
+
+from locustjump.sim import model as lm
+from locustjump.sim.engine.job import RolloutJob, RolloutResult
+from locustjump.sim.engine.loop import run_batch
+
+
+class Backend(Protocol):
+    """Runs a :class:`~locustjump.sim.engine.rollout.RolloutJob`; every backend gives
+    bit-identical results."""
+
+    def run(self, job: RolloutJob) -> RolloutResult: ...
+
+
+def default_threads() -> int:
+    """Threads to use by default: the CPUs this process may run on."""
+    return (
+        len(os.sched_getaffinity(0))
+        if hasattr(os, "sched_getaffinity")
+        else (os.cpu_count() or 1)
+    )
+
+
+class ThreadBackend:
+    """Steps all episodes in one ``mujoco.batch.Batch`` on ``threads`` C threads.
+
+    Batches are cached per episode count, so a GA that evaluates the same
+    population size every generation builds its batch once.
+    """
+
+    def __init__(self, threads: int | None = None):
+        self.threads = default_threads() if threads is None else int(threads)
+        if self.threads < 1:
+            raise ValueError(f"threads must be >= 1, got {threads}")
+        self._batches: dict[tuple[lm.LocustParams, int], Batch] | None = {}
+
+    def _batch(self, p: lm.LocustParams, n: int) -> Batch:
+        key = (p, n)
+        if key not in self._batches:
+            self._batches[key] = Batch(
+                lm.load_model(p), n, min(self.threads, n), persistent=True
+            )
+        return self._batches[key]
+
+    def run(self, job: RolloutJob) -> RolloutResult:
+        if self._batches is None:
+            raise RuntimeError("this ThreadBackend is closed")
+        return run_batch(self._batch(job.model_params, job.n_episodes), job)
+
+    def close(self) -> None:
+        """Release the cached batches (their simulations and threads); a
+        closed backend runs nothing more."""
+        self._batches = None
+
+    def __enter__(self) -> ThreadBackend:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
