@@ -23,6 +23,7 @@ from locustjump.tasks.composed import (
     SIMPLE,
     SWITCH_EVERY,
     SwitchingController,
+    SwitchOptions,
     overturns,
 )
 
@@ -63,19 +64,35 @@ def test_switching_controller_rejects_wrong_simple_genomes():
         get_behaviour("composed").controller  # noqa: B018
 
 
-def test_composed_rollout_same_on_any_threads_and_switches_every_120(rng, params):
+def test_composed_rollout_same_on_any_threads_and_switches_every_120(params):
+    # switchers (seeded) whose episodes do switch: episode 0 every decision
+    rng = np.random.default_rng(0)
     beh = get_behaviour("composed", NET.random_genomes(rng, 3))
-    g = SWITCH.random_genomes(rng, 3, scale=2.0)
+    g = SWITCH.random_genomes(rng, 4, scale=2.0)
     a = beh.simulate(g, params, record=("qpos", "memory"), backend=ThreadBackend(1))
     b = beh.simulate(g, params, record=("qpos", "memory"), backend=ThreadBackend(2))
     for k in ("qpos", "memory"):
         np.testing.assert_array_equal(a[k], b[k])
     sel = a["memory"][:, 1:, 0]  # the selection in force during step t
-    changes = np.flatnonzero((np.diff(sel, axis=1) != 0).any(axis=0)) + 1
-    assert np.all(changes % SWITCH_EVERY == 0)
-    assert set(np.unique(sel)) <= {0.0, 1.0, 2.0}
+    changes = [np.flatnonzero(np.diff(s) != 0) + 1 for s in sel]
+    assert sum(c.size > 0 for c in changes) >= 2  # the episodes do switch ...
+    assert changes[0].size == 3000 // SWITCH_EVERY - 1  # (at every decision)
+    for c in changes:  # ... and only at a decision, every 120 steps
+        assert np.all(c % SWITCH_EVERY == 0), c
+    assert set(np.unique(sel)) == {0.0, 1.0, 2.0}
     f = beh.fitness(a, params)
     np.testing.assert_allclose(f, a["qpos"][:, 1:, 2].sum(axis=1))
+
+
+def test_switch_every_option_sets_when_the_switcher_decides(params):
+    rng = np.random.default_rng(0)
+    simple = NET.random_genomes(rng, 3)
+    g = SWITCH.random_genomes(rng, 4, scale=2.0)
+    beh = get_behaviour("composed", simple, SwitchOptions(switch_every=7))
+    sel = beh.simulate(g, params, record=("memory",))["memory"][:, 1:, 0]
+    changes = np.concatenate([np.flatnonzero(np.diff(s) != 0) + 1 for s in sel])
+    assert changes.size > 0 and np.all(changes % 7 == 0)
+    assert np.any(changes % SWITCH_EVERY != 0)  # not the default's decisions
 
 
 def test_overturns_counts_falls_and_recoveries():

@@ -13,7 +13,7 @@ from mujoco.batch import Batch
 
 from locustjump.sim import model as lm
 from locustjump.sim.controller import MLP
-from locustjump.sim.engine import incallback
+from locustjump.sim.engine import incallback, mjlayout
 from locustjump.sim.engine.compiled import run_compiled
 from locustjump.sim.engine.incallback import run_incallback
 from locustjump.sim.engine.rollout import RECORDABLE, RolloutJob, StartStates
@@ -35,9 +35,10 @@ def test_the_kernels_digest_is_current():
 
 
 def test_the_field_offsets_are_those_of_this_mujoco():
-    from locustjump.sim.engine import mjlayout
-
-    assert mjlayout.offsets(incallback.NUSERDATA) is not None
+    # the literals the compiled callback was built with, against the offsets
+    # read from MuJoCo's own struct descriptions and checked on live data
+    assert mjlayout.offsets(incallback.NUSERDATA) == incallback.OFFSETS
+    assert incallback.AVAILABLE
 
 
 def _both(job: RolloutJob, threads: int = 2):

@@ -62,8 +62,8 @@ NUSERDATA = 3
 #: mjModel's nuserdata in MuJoCo 4.0 (64-bit). Literals, so that the cached
 #: compiled callback and this source agree; checked against the running
 #: MuJoCo at import, and this path is off where they differ.
-_OFF_QPOS, _OFF_CTRL, _OFF_SENS, _OFF_USER, _OFF_WARN, _OFF_NUSER = (
-    160688, 160744, 160816, 160808, 160264, 736)  # fmt: skip
+OFFSETS = (160688, 160744, 160816, 160808, 160264, 736)
+_OFF_QPOS, _OFF_CTRL, _OFF_SENS, _OFF_USER, _OFF_WARN, _OFF_NUSER = OFFSETS
 #: SHA-256 of kernels.py, whose functions the cached compiled code below calls:
 #: Numba's cache notices changes to this file only, so a change there must
 #: change this line too (``tests/test_incallback.py`` says so, with the digest)
@@ -75,8 +75,7 @@ def kernels_digest() -> str:
         return hashlib.sha256(f.read()).hexdigest()
 
 
-_LAYOUT = mjlayout.offsets(NUSERDATA) == (
-    _OFF_QPOS, _OFF_CTRL, _OFF_SENS, _OFF_USER, _OFF_WARN, _OFF_NUSER)  # fmt: skip
+_LAYOUT = mjlayout.offsets(NUSERDATA) == OFFSETS
 AVAILABLE = _LAYOUT and kernels_digest() == KERNELS_SHA256
 if not AVAILABLE:
     why = (
