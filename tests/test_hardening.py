@@ -70,8 +70,9 @@ def test_interrupted_reproduce_says_how_to_continue(tmp_path, capsys, monkeypatc
     def interrupted(*args, **kwargs):
         raise KeyboardInterrupt
 
+    # the command's own name for it (an interrupt during any stage)
     monkeypatch.setattr(
-        sys.modules["locustjump.runs.reproduce"], "reproduce", interrupted
+        sys.modules["locustjump.cli.commands"], "reproduce", interrupted
     )
     assert main(["reproduce", "--out", str(tmp_path / "r")]) == 130
     assert "rerun the same command" in capsys.readouterr().err

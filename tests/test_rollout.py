@@ -107,3 +107,19 @@ def test_job_validation(params, mjmodel):
         RolloutJob(params, net, np.zeros((1, 144)), starts, 0)
     with pytest.raises(ValueError, match="cannot record"):
         RolloutJob(params, net, np.zeros((1, 144)), starts, 5, ("xpos",))
+
+
+def test_a_thread_backend_is_closed_by_its_context_manager(params):
+    from locustjump.sim.engine.backends import make_backend
+    from locustjump.sim.model import load_model
+
+    m = load_model(params)
+    net = MLP()
+    g = net.random_genomes(np.random.default_rng(0), 2)
+    with make_backend("threads", threads=1) as b:
+        a = rollout(net, g, StartStates.ready(m), 5, model_params=params, backend=b)
+    np.testing.assert_array_equal(
+        a["qpos"], rollout(net, g, StartStates.ready(m), 5, model_params=params)["qpos"]
+    )
+    with pytest.raises(RuntimeError, match="closed"):
+        b.run(None)

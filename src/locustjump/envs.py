@@ -34,6 +34,7 @@ import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
+from locustjump.present.render import make_renderer
 from locustjump.sim import model as lm
 from locustjump.sim import names
 from locustjump.sim.engine.episode import Episode
@@ -202,8 +203,6 @@ class LocustEnv(gym.Env):
         if self.render_mode != "rgb_array":
             return None
         if self._renderer is None:
-            from locustjump.present.render import make_renderer
-
             self._renderer = make_renderer(self._episode.model, *self._size)
         self._renderer.update_scene(self._episode.data, camera=self._camera)
         return self._renderer.render()

@@ -7,6 +7,8 @@ import argparse
 
 import numpy as np
 
+from locustjump.runs.multiseed import parse_seeds
+
 
 def _as(kind, noun: str, name: str, text: str):
     """``kind(text)``, or the one-line error that ``name`` must be ``noun``."""
@@ -38,7 +40,6 @@ def _substeps(text: str) -> tuple[int, ...]:
 
 
 def _seeds(text: str) -> list[int]:
-    from locustjump.runs.multiseed import parse_seeds
 
     try:
         return parse_seeds(text)

@@ -7,12 +7,25 @@ import json
 import sys
 
 from locustjump import rundir
+from locustjump.cli.resolve import resolve_config
 from locustjump.errors import UserError
+from locustjump.present.compare import convergence_figure, load_groups, table
+from locustjump.present.evaluate import evaluate_run
+from locustjump.present.render import render_run, view
+from locustjump.present.report import write_report
+from locustjump.present.rules import write_rules_run
+from locustjump.present.stages import reporter_of
+from locustjump.present.stages.getup import sweep_run
+from locustjump.runs.multiseed import reproduce_seeds
+from locustjump.runs.reproduce import replay, reproduce, single_seed_command
+from locustjump.runs.trainer import train
 from locustjump.sim import model as lm
+from locustjump.sim.engine.backends import make_backend
+from locustjump.tasks import behaviour_class, behaviour_names
+from locustjump.tasks.getup import sweep_angles
 
 
 def _backend(args: argparse.Namespace):
-    from locustjump.sim.engine.backends import make_backend
 
     return make_backend(
         args.backend, threads=args.threads, address=args.address, actors=args.actors
@@ -28,7 +41,6 @@ def cmd_model(args: argparse.Namespace) -> int:
 
 
 def cmd_rules(args: argparse.Namespace) -> int:
-    from locustjump.present.rules import write_rules_run
 
     out = rundir.check_out_dir(args.out, force=args.force)  # made once it ran
     p = lm.LocustParams(strut_stiffness=args.strut_stiffness)
@@ -44,9 +56,6 @@ def cmd_rules(args: argparse.Namespace) -> int:
 
 
 def cmd_train(args: argparse.Namespace) -> int:
-    from locustjump.cli.resolve import resolve_config
-    from locustjump.runs.trainer import train
-    from locustjump.tasks import behaviour_class, behaviour_names
 
     cfg = resolve_config(
         args.behaviour,
@@ -96,7 +105,6 @@ def cmd_train(args: argparse.Namespace) -> int:
 
 
 def cmd_evaluate(args: argparse.Namespace) -> int:
-    from locustjump.present.evaluate import evaluate_run
 
     ev = evaluate_run(args.run, backend=_backend(args))
     if args.json:
@@ -122,8 +130,6 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
 
 
 def cmd_sweep_getup(args: argparse.Namespace) -> int:
-    from locustjump.present.stages.getup import sweep_run
-    from locustjump.tasks.getup import sweep_angles
 
     angles = sweep_angles(args.step_deg, args.from_deg, args.to_deg)
     sw, files = sweep_run(args.run, angles, backend=_backend(args))
@@ -137,7 +143,6 @@ def cmd_sweep_getup(args: argparse.Namespace) -> int:
 
 
 def cmd_reproduce(args: argparse.Namespace) -> int:
-    from locustjump.runs.reproduce import reproduce, single_seed_command
 
     common = {
         "budget": args.budget,
@@ -148,8 +153,6 @@ def cmd_reproduce(args: argparse.Namespace) -> int:
         "monolithic": not args.no_monolithic,
     }
     if args.seeds is not None:
-        from locustjump.runs.multiseed import reproduce_seeds
-
         if args.actors is not None:
             raise UserError(
                 "--actors is for one seed; with --seeds every stage is a Ray task "
@@ -180,8 +183,6 @@ def cmd_reproduce(args: argparse.Namespace) -> int:
 
 
 def cmd_replay(args: argparse.Namespace) -> int:
-    from locustjump.present.stages import reporter_of
-    from locustjump.runs.reproduce import replay
 
     failed = 0
     for stage, ev in replay(
@@ -203,7 +204,6 @@ def cmd_replay(args: argparse.Namespace) -> int:
 
 
 def cmd_render(args: argparse.Namespace) -> int:
-    from locustjump.present.render import render_run
 
     out = render_run(
         args.dir,
@@ -219,21 +219,18 @@ def cmd_render(args: argparse.Namespace) -> int:
 
 
 def cmd_view(args: argparse.Namespace) -> int:
-    from locustjump.present.render import view
 
     view(args.dir, duration=args.duration)
     return 0
 
 
 def cmd_report(args: argparse.Namespace) -> int:
-    from locustjump.present.report import write_report
 
     print(f"wrote {write_report(args.dir, backend=_backend(args))}")
     return 0
 
 
 def cmd_compare(args: argparse.Namespace) -> int:
-    from locustjump.present.compare import convergence_figure, load_groups, table
 
     figure = None
     if args.figure is not None:
@@ -249,7 +246,6 @@ def cmd_compare(args: argparse.Namespace) -> int:
 
 def frozen_options() -> tuple[str, ...]:
     """Every run some behaviour builds on (``--kick DIR`` ...), in order."""
-    from locustjump.tasks import behaviour_class, behaviour_names
 
     seen: dict[str, None] = {}
     for name in behaviour_names():

@@ -12,7 +12,14 @@ from locustjump.cli.argtypes import (
     _seeds,
     _substeps,
 )
+from locustjump.evo import optimizer_kinds
+from locustjump.present.compare import KEYS
+from locustjump.present.render import CAMERAS
+from locustjump.runs.reproduce import BUDGETS
 from locustjump.sim import model as lm
+from locustjump.sim.engine.backends import BACKENDS
+from locustjump.tasks import behaviour_names
+from locustjump.tasks.rules import DEFAULT_CHANGE_TIME
 from locustjump.version import __version__
 
 
@@ -35,7 +42,6 @@ def _strut_stiffness_arg(p: argparse.ArgumentParser) -> None:
 
 
 def _add_backend(p: argparse.ArgumentParser) -> None:
-    from locustjump.sim.engine.backends import BACKENDS
 
     p.add_argument(
         "--backend",
@@ -63,7 +69,6 @@ def _add_backend(p: argparse.ArgumentParser) -> None:
 
 
 def _add_optimizer(p: argparse.ArgumentParser, default: str | None) -> None:
-    from locustjump.evo import optimizer_kinds
 
     p.add_argument(
         "--optimizer",
@@ -82,7 +87,6 @@ def _add_optimizer(p: argparse.ArgumentParser, default: str | None) -> None:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    from locustjump.tasks.rules import DEFAULT_CHANGE_TIME
 
     ap = _Parser(
         prog="locustjump",
@@ -124,8 +128,6 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", required=True, help="output directory")
     p.add_argument("--force", action="store_true", help="write into a non-empty --out")
     p.set_defaults(func=cmd.cmd_rules)
-
-    from locustjump.tasks import behaviour_names
 
     p = sub.add_parser(
         "train",
@@ -209,8 +211,6 @@ def build_parser() -> argparse.ArgumentParser:
     _add_backend(p)
     p.set_defaults(func=cmd.cmd_sweep_getup)
 
-    from locustjump.runs.reproduce import BUDGETS
-
     p = sub.add_parser(
         "reproduce",
         help="run every experiment of the paper in order, write results.md",
@@ -275,8 +275,6 @@ def build_parser() -> argparse.ArgumentParser:
     _add_backend(p)
     p.set_defaults(func=cmd.cmd_replay)
 
-    from locustjump.present.render import CAMERAS
-
     p = sub.add_parser(
         "render",
         help="render a run's best controller (or a rule-based run) to a video",
@@ -334,8 +332,6 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("dir", metavar="DIR")
     _add_backend(p)
     p.set_defaults(func=cmd.cmd_report)
-
-    from locustjump.present.compare import KEYS
 
     p = sub.add_parser(
         "compare",

@@ -8,6 +8,7 @@ from pathlib import Path
 
 from locustjump import rundir
 from locustjump.errors import UserError
+from locustjump.evo import params_class
 from locustjump.rundir.config import TrainConfig
 
 
@@ -28,7 +29,6 @@ def resolve_config(
     """The configuration ``locustjump train`` runs: a resumed run's own
     ``config.toml`` (options may only extend ``generations``), or the defaults,
     overridden by a ``config`` file and then by the options given."""
-    from locustjump.evo import params_class
 
     if resume:
         if config is not None:

@@ -15,6 +15,7 @@ seed gives the same genomes bit for bit.
 
 from __future__ import annotations
 
+import json
 from collections.abc import Mapping
 from typing import Any, ClassVar, Protocol, runtime_checkable
 
@@ -74,14 +75,12 @@ def check_fitness(fitness: np.ndarray, n: int) -> np.ndarray:
 
 def rng_state(rng: np.random.Generator) -> np.ndarray:
     """A generator's state as a 0-d string array (JSON), for an ``.npz``."""
-    import json
 
     return np.array(json.dumps(rng.bit_generator.state))
 
 
 def rng_from_state(text: Any) -> np.random.Generator:
     """Inverse of :func:`rng_state`."""
-    import json
 
     s = json.loads(str(text))
     bg = getattr(np.random, s["bit_generator"])()

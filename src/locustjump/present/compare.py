@@ -18,7 +18,11 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+import matplotlib
 import numpy as np
+
+matplotlib.use("Agg")  # no display needed
+import matplotlib.pyplot as plt  # noqa: E402
 
 from locustjump import rundir
 from locustjump.errors import UserError
@@ -154,11 +158,6 @@ def convergence_figure(groups: Sequence[Group], path: str | os.PathLike,
                        title: str = "") -> Path:  # fmt: skip
     """Best fitness so far against genome evaluations: median line and
     interquartile band over each group's runs."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
     fig, ax = plt.subplots(figsize=(7, 4.2))
     for g in groups:
         grid = np.unique(np.concatenate([c[0] for c in g.curves]))

@@ -5,6 +5,11 @@ from __future__ import annotations
 from pathlib import Path
 
 import matplotlib
+from matplotlib.colors import ListedColormap
+
+from locustjump.rundir import atomic_write_bytes
+from locustjump.sim.model import CONTROL_DT
+from locustjump.sim.names import ACTUATED_JOINTS
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -15,7 +20,6 @@ from locustjump.sim.analysis import Jump  # noqa: E402
 
 def _save(fig, path: Path) -> None:
     """Write ``fig`` as PNG with the run directory's atomic writer; close it."""
-    from locustjump.rundir import atomic_write_bytes
 
     atomic_write_bytes(path, lambda f: fig.savefig(f, dpi=120, format="png"))
     plt.close(fig)
@@ -106,7 +110,6 @@ def composed_figure(
       names: the simple behaviours' names.
       title: figure title.
     """
-    from matplotlib.colors import ListedColormap
 
     rows = 2 if selected is not None else 1
     fig, axes = plt.subplots(
@@ -124,8 +127,6 @@ def composed_figure(
     if title:
         ax.set_title(title)
     if selected is not None:
-        from locustjump.sim.model import CONTROL_DT
-
         tl = axes[1, 0]
         colors = ListedColormap(["tab:red", "tab:green", "tab:blue"][: len(names)])
         tl.imshow(
@@ -150,7 +151,6 @@ def getup_figure(
     path: Path, uz: np.ndarray, rolls: tuple[float, ...], success: float
 ) -> None:
     """U_z over time from each start state (the paper's Fig. 9)."""
-    from locustjump.sim.model import CONTROL_DT
 
     t = np.arange(uz.shape[1]) * CONTROL_DT
     fig, ax = plt.subplots(figsize=(7, 3.6), constrained_layout=True)
@@ -167,8 +167,6 @@ def getup_figure(
 
 def joint_angles_figure(path: Path, angles: np.ndarray, target: np.ndarray) -> None:
     """The four hind joint angles over time and their ready angles phi (Fig. 10)."""
-    from locustjump.sim.model import CONTROL_DT
-    from locustjump.sim.names import ACTUATED_JOINTS
 
     t = np.arange(angles.shape[0]) * CONTROL_DT
     fig, ax = plt.subplots(figsize=(7, 3.6), constrained_layout=True)

@@ -25,6 +25,8 @@ from typing import TYPE_CHECKING
 
 import mujoco
 import numpy as np
+from PIL import Image, ImageDraw, ImageFont
+from tqdm import tqdm
 
 from locustjump import rundir
 from locustjump.errors import UserError
@@ -187,8 +189,6 @@ def make_renderer(m: mujoco.MjModel, width: int, height: int) -> mujoco.Renderer
 
 
 def _font(size: int):
-    from PIL import ImageFont
-
     try:
         return ImageFont.load_default(size=size)
     except TypeError:  # Pillow < 10.1: fixed-size bitmap font
@@ -196,8 +196,6 @@ def _font(size: int):
 
 
 def _caption(img: np.ndarray, lines: list[str], font) -> np.ndarray:
-    from PIL import Image, ImageDraw
-
     im = Image.fromarray(img)
     draw = ImageDraw.Draw(im)
     y = 4
@@ -329,8 +327,6 @@ def _encode(
 ) -> Path:
     if not progress:
         return render_video(pb, out, fps=fps, camera=camera, force=force)
-    from tqdm import tqdm
-
     total = int(pb.n_steps * CONTROL_DT * fps) + 1
     with tqdm(total=total, unit="frame", desc=f"render {out.name}") as bar:
         return render_video(

@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING, Any
 
 from locustjump import rundir
 from locustjump.errors import UserError
+from locustjump.present.evaluate import evaluate_run
 from locustjump.version import __version__
 
 if TYPE_CHECKING:
@@ -225,7 +226,6 @@ Self-contained: no network needed.</footer>
 def write_report(path: str | os.PathLike, *, backend: Backend | None = None) -> Path:
     """Write ``path/report.html`` for a training run or a reproduction
     (rewritten on every call: it holds derived content only)."""
-    from locustjump.present.evaluate import evaluate_run
 
     d = Path(path)
     if not d.is_dir():

@@ -14,6 +14,7 @@ import platform
 from pathlib import Path
 from typing import Any
 
+import mujoco
 import numpy as np
 
 from locustjump import rundir
@@ -45,7 +46,6 @@ def minutes(s: float) -> str:
 def results_markdown(out: Path) -> str:
     """``results.md`` of reproduction ``out``: its trained stages are the
     keys of ``reproduce.toml``'s ``generations`` table, in order."""
-    import mujoco
 
     out = Path(out)
     marker = rundir.read_toml(out / rundir.MARKER)

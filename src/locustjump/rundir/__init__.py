@@ -36,7 +36,6 @@ from locustjump.rundir.files import (
     atomic_write_text,
     check_out_dir,
     load_npz,
-    prepare_out_dir,
     prepare_out_file,
     read_json,
     read_toml,

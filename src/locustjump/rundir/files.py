@@ -131,13 +131,6 @@ def check_out_dir(path: str | os.PathLike, *, force: bool = False) -> Path:
     return out
 
 
-def prepare_out_dir(path: str | os.PathLike, *, force: bool = False) -> Path:
-    """Create ``path``; refuse an existing non-empty one unless ``force``."""
-    out = check_out_dir(path, force=force)
-    out.mkdir(parents=True, exist_ok=True)
-    return out
-
-
 def prepare_out_file(
     path: str | os.PathLike, *, force: bool = False, option: str = "--out"
 ) -> Path:

@@ -12,6 +12,7 @@ from typing import Any
 import numpy as np
 
 from locustjump.errors import UserError
+from locustjump.rundir.config import TrainConfig
 from locustjump.rundir.files import (
     atomic_write_text,
     load_npz,
@@ -28,6 +29,7 @@ from locustjump.rundir.layout import (
     METRICS_COLUMNS,
     is_run,
 )
+from locustjump.tasks import behaviour_class, get_behaviour
 
 # --- config ---------------------------------------------------------------------
 
@@ -40,7 +42,6 @@ NUMERICAL_MODEL_FIELDS = ("engine", "substeps")
 def load_config(path: str | os.PathLike, *, behaviour: str = "kick"):
     """Read a (possibly partial) TOML config; missing keys take the defaults
     (``behaviour`` where the file names none)."""
-    from locustjump.rundir.config import TrainConfig
 
     d = read_toml(Path(path))
     return TrainConfig.from_dict({"behaviour": behaviour, **d}, str(path))
@@ -138,7 +139,6 @@ class FrozenGenomes:
         each must hold that behaviour, or a variant of it with the same network
         (e.g. a ``kick-apex`` run for the kick), and the creature ``model``
         (``UserError`` naming the directory otherwise)."""
-        from locustjump.tasks import behaviour_class
 
         genomes, sources, hashes = [], [], []
         for name in required:
@@ -210,7 +210,6 @@ class FrozenGenomes:
 def behaviour_of(cfg, out: Path):
     """The behaviour of the run in ``out``; one built on frozen runs reads
     their genomes from ``simple.npz`` and checks them against the config."""
-    from locustjump.tasks import behaviour_class, get_behaviour
 
     cls = behaviour_class(cfg.behaviour)
     if not cls.requires:

@@ -32,10 +32,13 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from tqdm.auto import tqdm
+
 from locustjump import rundir
 from locustjump.errors import UserError
 from locustjump.evo import params_class
-from locustjump.present.results import minutes
+from locustjump.present.report import write_report
+from locustjump.present.results import minutes, seeds_markdown
 from locustjump.runs.reproduce import (
     TRAINED,
     Budget,
@@ -50,6 +53,8 @@ from locustjump.runs.reproduce import (
     start_reproduction,
 )
 from locustjump.sim import model as lm
+from locustjump.sim.engine.backends import ThreadBackend
+from locustjump.sim.engine.ray_backend import connect
 from locustjump.tasks import behaviour_class
 from locustjump.version import __version__
 
@@ -151,11 +156,8 @@ def reproduce_seeds(
         check_reproduction(rundir.seed_dir(out, s), b, s, optimizer, engine)
     ray = None
     if backend == "ray":
-        from locustjump.sim.engine.ray_backend import connect
-
         ray = connect(address)
         threads = _task_threads(ray, threads)
-    from locustjump.sim.engine.backends import ThreadBackend
 
     here = ThreadBackend(threads)
     old = (
@@ -232,7 +234,6 @@ def _stage_task(
     *_inputs: Any,
 ) -> tuple[float | None, float]:
     """One (seed, stage) on a Ray worker; ``_inputs`` are the tasks it waits for."""
-    from locustjump.sim.engine.backends import ThreadBackend
 
     d = Path(out)
     if not rundir.is_reproduction(d):
@@ -260,7 +261,6 @@ def _run_on_ray(ray, out, dirs, b, optimizer, threads, monolithic, here,
             refs[stage] = task.remote(str(d), stage, b, s, optimizer, threads, *needs)
             pending[refs[stage]] = (s, stage)
             left[s] += 1
-    from tqdm.auto import tqdm
 
     log(
         f"{len(pending)} stage tasks over {len(dirs)} seeds on Ray "
@@ -303,8 +303,6 @@ def _requires(stage: str) -> tuple[str, ...]:
 
 
 def _write_results(out: Path, backend: Backend) -> Path:
-    from locustjump.present.report import write_report
-    from locustjump.present.results import seeds_markdown
 
     path = out / rundir.RESULTS
     rundir.atomic_write_text(path, seeds_markdown(out))

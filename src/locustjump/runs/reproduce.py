@@ -35,6 +35,7 @@ from locustjump.present.stages import reporter_of
 from locustjump.rundir.config import TrainConfig
 from locustjump.runs.trainer import train
 from locustjump.sim import model as lm
+from locustjump.sim.engine.backends import ThreadBackend
 from locustjump.tasks import behaviour_class
 from locustjump.version import __version__
 
@@ -175,8 +176,6 @@ def reproduce(
     params_class(optimizer)  # a clear error for an unknown kind, before mkdir
     check_reproduction(out, b, seed, optimizer, engine)
     if backend is None:
-        from locustjump.sim.engine.backends import ThreadBackend
-
         backend = ThreadBackend()
     out.mkdir(parents=True, exist_ok=True)
     with rundir.locked(out):

@@ -22,13 +22,18 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
+from tqdm.auto import tqdm
 
 from locustjump import rundir
 from locustjump.errors import UserError
 from locustjump.evo import Optimizer, make_optimizer
+from locustjump.present.plots import fitness_curves
 from locustjump.rundir import BestGenome, FrozenGenomes
 from locustjump.rundir.config import TrainConfig
 from locustjump.sim import model as lm
+from locustjump.sim.engine.backends import ThreadBackend
+from locustjump.sim.engine.rollout import rollout_bytes
+from locustjump.sim.resources import require_memory
 from locustjump.tasks import Behaviour, behaviour_class, get_behaviour
 
 if TYPE_CHECKING:
@@ -114,8 +119,6 @@ def train(
             )
         cfg = cfg.replace(simple=frozen.digest)
     if backend is None:
-        from locustjump.sim.engine.backends import ThreadBackend
-
         backend = ThreadBackend()
     if resume:
         if not rundir.is_run(out):
@@ -153,8 +156,6 @@ def _check_new(
     beh = get_behaviour(
         cfg.behaviour, frozen.genomes if cls.requires else None, cfg.options
     )
-    from locustjump.sim.engine.rollout import rollout_bytes
-    from locustjump.sim.resources import require_memory
 
     require_memory(
         rollout_bytes(
@@ -220,7 +221,6 @@ def _resume(out: Path, cfg: TrainConfig, builds_on: bool) -> _Run:
 def _loop(
     run: _Run, backend: Backend, progress: bool, stop_after: int | None
 ) -> TrainResult:
-    from tqdm.auto import tqdm
 
     cfg, opt, beh, p = run.cfg, run.opt, run.beh, run.cfg.model
     t_start = time.perf_counter()
@@ -293,7 +293,6 @@ def _loop(
 
 def fitness_figure(out: Path) -> Path:
     """``DIR/fitness.png`` from ``DIR/metrics.csv``."""
-    from locustjump.present.plots import fitness_curves
 
     m = rundir.read_metrics(out / rundir.METRICS)
     cfg = rundir.load_config(out / rundir.CONFIG)

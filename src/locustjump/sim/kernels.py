@@ -210,11 +210,11 @@ def observe(qpos, sens, joints, touch, body_length, obs):
 
 
 @njit(cache=True, error_model="numpy")
-def record(t, qpos, obs, ctrl, memory, rq, ro, rc, rm, frozen, any_frozen):
+def record(t, qpos, obs, ctrl, memory, rq, ro, rc, rm, stopped, any_stopped):
     """Row ``t`` of the records ``rq, ro, rc, rm`` (an empty array: not
-    recorded); episodes ``frozen`` repeat row ``t - 1``."""
+    recorded); episodes ``stopped`` repeat row ``t - 1``."""
     for e in range(qpos.shape[0]):
-        src = t - 1 if any_frozen and frozen[e] else t
+        src = t - 1 if any_stopped and stopped[e] else t
         if src == t:
             if rq.shape[0]:
                 rq[e, t, :] = qpos[e, :]
@@ -257,7 +257,7 @@ def soa(a: np.ndarray) -> np.ndarray:
 @njit(cache=True, error_model="numpy")
 def post_step(
     t, check, sub, ids, sens, qpos, warning, unstable, newly, joints, touch,
-    body_length, obs, ctrl, memory, rq, ro, rc, rm, any_frozen,
+    body_length, obs, ctrl, memory, rq, ro, rc, rm, any_stopped,
 ):  # fmt: skip
     """After the physics of control step ``t - 1`` (``t == 0``: the start
     state, no ``sub``): reduce the touch sensors and check (``check``; returns
@@ -268,14 +268,14 @@ def post_step(
         if count:
             return count
     observe(qpos, sens, joints, touch, body_length, obs)
-    record(t, qpos, obs, ctrl, memory, rq, ro, rc, rm, unstable, any_frozen)
+    record(t, qpos, obs, ctrl, memory, rq, ro, rc, rm, unstable, any_stopped)
     return 0
 
 
 @njit(cache=True, error_model="numpy")
 def step_mlp(
     t, check, sub, ids, sens, qpos, warning, unstable, newly, joints, touch,
-    body_length, obs, ctrl, memory, rq, ro, rc, rm, any_frozen, act, net, output,
+    body_length, obs, ctrl, memory, rq, ro, rc, rm, any_stopped, act, net, output,
     deltas, hidden, lo, hi,
 ):  # fmt: skip
     """:func:`post_step`, then (``act``, when no episode newly failed) one
@@ -283,25 +283,25 @@ def step_mlp(
     everything between two physics calls in one call."""
     count = post_step(t, check, sub, ids, sens, qpos, warning, unstable, newly,
                       joints, touch, body_length, obs, ctrl, memory, rq, ro, rc,
-                      rm, any_frozen)  # fmt: skip
+                      rm, any_stopped)  # fmt: skip
     if count == 0 and act:
         w1, b1, w2, b2 = net
         mlp(w1, b1, w2, b2, obs, deltas, hidden, output)
-        actuate(ctrl, deltas, lo, hi, unstable, any_frozen)
+        actuate(ctrl, deltas, lo, hi, unstable, any_stopped)
     return count
 
 
 @njit(cache=True, error_model="numpy")
 def step_switch(
     t, check, sub, ids, sens, qpos, warning, unstable, newly, joints, touch,
-    body_length, obs, ctrl, memory, rq, ro, rc, rm, any_frozen, act, every, sw,
+    body_length, obs, ctrl, memory, rq, ro, rc, rm, any_stopped, act, every, sw,
     nets, deltas, choice, scratch, hidden, lo, hi,
 ):  # fmt: skip
     """:func:`step_mlp` for the composed switcher (:func:`switch`)."""
     count = post_step(t, check, sub, ids, sens, qpos, warning, unstable, newly,
                       joints, touch, body_length, obs, ctrl, memory, rq, ro, rc,
-                      rm, any_frozen)  # fmt: skip
+                      rm, any_stopped)  # fmt: skip
     if count == 0 and act:
         switch(t, every, sw, nets, memory, obs, deltas, choice, scratch, hidden)
-        actuate(ctrl, deltas, lo, hi, unstable, any_frozen)
+        actuate(ctrl, deltas, lo, hi, unstable, any_stopped)
     return count

@@ -26,6 +26,7 @@ defaults were chosen.
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 import math
 from dataclasses import dataclass, field
@@ -34,6 +35,7 @@ from functools import lru_cache
 import mujoco
 import numpy as np
 
+from locustjump.errors import UserError
 from locustjump.sim import names
 from locustjump.sim.params import (  # noqa: F401 (re-exported)
     CONTROL_DT,
@@ -261,7 +263,6 @@ def load_model(p: LocustParams = LocustParams()) -> mujoco.MjModel:
 def check_model(p: LocustParams) -> None:
     """Compile the creature of ``p``; a ``UserError`` naming ``[model]`` if MuJoCo
     rejects it (called before anything is written)."""
-    from locustjump.errors import UserError
 
     try:
         _compiled(p)
@@ -271,7 +272,6 @@ def check_model(p: LocustParams) -> None:
 
 
 def copy_model(m: mujoco.MjModel) -> mujoco.MjModel:
-    import copy
 
     return copy.copy(m)
 

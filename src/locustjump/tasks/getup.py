@@ -18,6 +18,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from tqdm.auto import tqdm
 
 from locustjump.sim import model as lm
 from locustjump.sim.engine.job import RolloutResult, StartStates, rollout_bytes
@@ -49,7 +50,6 @@ def _settled(p: lm.LocustParams, rolls: tuple[float, ...]) -> StartStates:
     """:func:`rolled_starts` of many states, with a progress bar (terminal)."""
     if len(rolls) <= 2 * len(TRAIN_ROLLS):
         return rolled_starts(p, rolls)
-    from tqdm.auto import tqdm
 
     return StartStates.concat(
         [

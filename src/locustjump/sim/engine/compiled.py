@@ -60,17 +60,17 @@ class Step:
                          np.empty((nets[2].shape[1], n)), np.empty((h, n)),
                          self.lo, self.hi)  # fmt: skip
 
-    def __call__(self, t, check, sub, ids, frozen, act) -> int:
+    def __call__(self, t, check, sub, ids, stopped, act) -> int:
         if self.kind == "mlp":
-            return step_mlp(t, check, sub, ids, *self.head, frozen, act, *self.tail)
+            return step_mlp(t, check, sub, ids, *self.head, stopped, act, *self.tail)
         if self.kind == "switch":
-            return step_switch(t, check, sub, ids, *self.head, frozen, act, *self.tail)
-        failed = post_step(t, check, sub, ids, *self.head, frozen)
+            return step_switch(t, check, sub, ids, *self.head, stopped, act, *self.tail)
+        failed = post_step(t, check, sub, ids, *self.head, stopped)
         if not failed and act:
             d, mem = self.ctl.act(self.prepared, self.memory, self.obs.T, self.ctrl, t)
             self.deltas[:] = np.asarray(d).T
             self.memory[:] = mem
-            actuate(self.ctrl, self.deltas, self.lo, self.hi, self.unstable, frozen)
+            actuate(self.ctrl, self.deltas, self.lo, self.hi, self.unstable, stopped)
         return failed
 
 
@@ -104,7 +104,7 @@ def run_compiled(batch: Batch, job: RolloutJob) -> RolloutResult:
     ids = np.arange(n)
     sub = {"sensordata": np.empty((n, S, m.nsensordata))}
     no_sub = np.empty((0, S, m.nsensordata))
-    frozen = False  # some episode failed: ids are the others; records freeze
+    stopped = False  # some episode failed: ids are the others; records freeze
     done = 0
     bar = progress(job)
     for t in range(T):
@@ -112,7 +112,7 @@ def run_compiled(batch: Batch, job: RolloutJob) -> RolloutResult:
             bar.update(min(100, T - t))
         warn_ids = None
         try:
-            if not frozen:
+            if not stopped:
                 out = batch.rollout(S, record=("sensordata",), out=sub)["sensordata"]
             else:
                 out = batch.rollout(S, record=("sensordata",), ids=ids)["sensordata"]
@@ -121,7 +121,7 @@ def run_compiled(batch: Batch, job: RolloutJob) -> RolloutResult:
         done += len(ids)
         act = t + 1 < T
         # a failed call: check only, then mark its simulations too
-        failed = step(t + 1, True, out, ids, frozen, act and warn_ids is None)
+        failed = step(t + 1, True, out, ids, stopped, act and warn_ids is None)
         if warn_ids is not None:
             newly[warn_ids] |= ~unstable[warn_ids]
         if failed or warn_ids is not None:
@@ -130,12 +130,12 @@ def run_compiled(batch: Batch, job: RolloutJob) -> RolloutResult:
                 steps[newly] = t + 1
                 ids = np.flatnonzero(~unstable)
                 qpos[newly] = np.nan_to_num(qpos[newly])
-                frozen = True
+                stopped = True
                 if ids.size == 0:
                     for a in rec.values():
                         a[:, t + 1 :] = a[:, t : t + 1]
                     break
-            step(t + 1, False, no_sub, ids, frozen, act)
+            step(t + 1, False, no_sub, ids, stopped, act)
     if bar is not None:
         bar.close()
     return RolloutResult(rec, unstable, steps, done)

@@ -55,7 +55,7 @@ from locustjump.sim.engine.job import (
 )
 
 #: userdata[0] of a simulation this path drives
-MARKER = 20061110.0
+USERDATA_MARK = 20061110.0
 NUSERDATA = 3
 
 #: Offsets of mjData's qpos, ctrl, sensordata, userdata and warning and of
@@ -67,7 +67,7 @@ _OFF_QPOS, _OFF_CTRL, _OFF_SENS, _OFF_USER, _OFF_WARN, _OFF_NUSER = OFFSETS
 #: SHA-256 of kernels.py, whose functions the cached compiled code below calls:
 #: Numba's cache notices changes to this file only, so a change there must
 #: change this line too (``tests/test_incallback.py`` says so, with the digest)
-KERNELS_SHA256 = "be07b0adc93a294f4797d76543cf9c0a1e3b660000dccccfba705f69ce6906e9"
+KERNELS_SHA256 = "0fa7c05e13d0bc15879ce0b4ca7fef3c7c31172faebde08fdfa0631111ca49e7"
 
 
 def kernels_digest() -> str:
@@ -219,7 +219,7 @@ def _control(m, d):
         return
     base = _address(d)
     user = _f64(_field(base, _OFF_USER), NUSERDATA)
-    if user[0] != MARKER:
+    if user[0] != USERDATA_MARK:
         return
     warning = carray(_pointer(base + _OFF_WARN), 2 * _NWARNING, np.int32)
     for w in range(_NWARNING):
@@ -268,7 +268,7 @@ def run_incallback(batch: Batch, job: RolloutJob) -> RolloutResult:
     # keep: every array ctx points into, alive until this function returns
     ctx, tmax, keep = _context(batch, job, step, rec)
     user = batch.bind("userdata")
-    user[:, 0] = MARKER
+    user[:, 0] = USERDATA_MARK
     user[:, 1] = float(ctx.ctypes.data)
     user[:, 2] = np.arange(n)
     try:

@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 
 import mujoco
 import numpy as np
+from tqdm.auto import tqdm
 
 from locustjump.sim import model as lm
 from locustjump.sim import sensors
@@ -186,7 +187,6 @@ def progress(job: RolloutJob):
     terminal only)."""
     if not job.label:
         return None
-    from tqdm.auto import tqdm
 
     return tqdm(total=job.n_steps, desc=job.label, unit="step", disable=None,
                 dynamic_ncols=True)  # fmt: skip
@@ -199,13 +199,13 @@ class Recorder:
         self.arrays = {k: np.empty((n, T + 1, *shape[k])) for k in names}
         self._order = tuple(RECORDABLE.index(k) for k in names)
 
-    def write(self, t, qpos, obs, ctrl, memory, frozen=None) -> None:
-        """Row ``t``; episodes flagged in ``frozen`` repeat row ``t - 1``."""
+    def write(self, t, qpos, obs, ctrl, memory, stopped=None) -> None:
+        """Row ``t``; episodes flagged in ``stopped`` repeat row ``t - 1``."""
         src = (qpos, obs, ctrl, memory)
         for i, a in zip(self._order, self.arrays.values(), strict=True):
             a[:, t] = src[i]
-            if frozen is not None:
-                a[frozen, t] = a[frozen, t - 1]
+            if stopped is not None:
+                a[stopped, t] = a[stopped, t - 1]
 
     def fill_from(self, t: int) -> None:
         for a in self.arrays.values():

@@ -124,7 +124,7 @@ def run_batch(batch: Batch, job: RolloutJob) -> RolloutResult:
             obs,
             ctrl,
             memory,
-            frozen=unstable if alive is not None else None,
+            stopped=unstable if alive is not None else None,
         )
     if bar is not None:
         bar.close()

@@ -8,6 +8,7 @@ from __future__ import annotations
 import ctypes
 
 import mujoco
+from mujoco.introspect import ast_nodes, structs
 
 _CTYPES = {"mjtNum": ctypes.c_double, "mjtSize": ctypes.c_int64, "int": ctypes.c_int,
            "size_t": ctypes.c_size_t, "uintptr_t": ctypes.c_size_t,
@@ -18,7 +19,6 @@ _CTYPES = {"mjtNum": ctypes.c_double, "mjtSize": ctypes.c_int64, "int": ctypes.c
 def _struct(name: str, *upto: str) -> type[ctypes.Structure]:
     """A ctypes mirror of MuJoCo's struct ``name`` (its fields up to the last of
     ``upto``; all without), from ``mujoco.introspect``."""
-    from mujoco.introspect import ast_nodes, structs
 
     fields, missing = [], set(upto)
     for f in structs.STRUCTS[name].fields:

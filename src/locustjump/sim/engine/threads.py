@@ -14,10 +14,17 @@ from locustjump.sim.engine.loop import run_batch
 
 
 class Backend(Protocol):
-    """Runs a :class:`~locustjump.sim.engine.rollout.RolloutJob`; every backend gives
-    bit-identical results."""
+    """Runs a :class:`~locustjump.sim.engine.job.RolloutJob`; every backend
+    gives bit-identical results. It holds its workers until :meth:`close`
+    (also a context manager)."""
 
     def run(self, job: RolloutJob) -> RolloutResult: ...
+
+    def close(self) -> None: ...
+
+    def __enter__(self) -> Backend: ...
+
+    def __exit__(self, *exc: object) -> None: ...
 
 
 def default_threads() -> int:
