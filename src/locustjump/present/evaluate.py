@@ -8,7 +8,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from locustjump import rundir
-from locustjump.present.stages import reporter_of
+from locustjump.present.stages import Episodes, reporter_of
 from locustjump.sim.engine.backends import ThreadBackend
 
 if TYPE_CHECKING:
@@ -80,5 +80,5 @@ def _write(cfg, beh, best, res, fitness, metrics, ev: Path, backend) -> Evaluati
         rundir.write_trajectory_csv(
             files[-1], res["qpos"][e], res["obs"][e], res["ctrl"][e]
         )
-    files += reporter_of(beh).write_figures(beh, res, p, ev, backend=backend)
+    files += reporter_of(beh).write_figures(Episodes(beh, res, p, backend), ev)
     return Evaluation(cfg.behaviour, fitness, best.fitness, metrics, files)

@@ -6,7 +6,7 @@ trajectory figure, no claims)."""
 
 from __future__ import annotations
 
-from locustjump.present.stages.base import Claim, Reporter, fmt, yes
+from locustjump.present.stages.base import Claim, Episodes, Reporter, fmt, yes
 from locustjump.present.stages.getup import GetUpReporter
 from locustjump.present.stages.kick import CeilingReporter, KickReporter
 from locustjump.present.stages.return_legs import ReturnLegsReporter
@@ -57,4 +57,12 @@ for _cls, _reporter in (
 ):
     register_reporter(_cls, _reporter)
 
-__all__ = ["Claim", "Reporter", "fmt", "register_reporter", "reporter_of", "yes"]
+__all__ = [
+    "Claim",
+    "Episodes",
+    "Reporter",
+    "fmt",
+    "register_reporter",
+    "reporter_of",
+    "yes",
+]

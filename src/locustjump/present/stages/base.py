@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar, NamedTuple
 
 import numpy as np
 
@@ -21,6 +21,16 @@ from locustjump.tasks import Behaviour
 
 if TYPE_CHECKING:
     from locustjump.sim.engine.backends import Backend
+
+
+class Episodes(NamedTuple):
+    """One controller's episodes as an evaluation simulated them: what a
+    reporter draws its figures from."""
+
+    behaviour: Behaviour
+    res: RolloutResult  # its episodes (one per start state)
+    params: lm.LocustParams  # the creature they ran on
+    backend: Backend | None = None  # where to simulate references (the rule)
 
 
 @dataclass(frozen=True)
@@ -81,16 +91,9 @@ class Reporter:
     )
     headline: ClassVar[tuple[str, ...]] = ("fitness",)
 
-    def write_figures(
-        self,
-        beh: Behaviour,
-        res: RolloutResult,
-        p: lm.LocustParams,
-        out: Path,
-        *,
-        backend: Backend | None = None,
-    ) -> list[Path]:
-        """Figures of ``beh``'s episodes ``res`` (one controller) into ``out``."""
+    def write_figures(self, ep: Episodes, out: Path) -> list[Path]:
+        """Figures of one controller's episodes ``ep`` into directory ``out``."""
+        beh, res, p, backend = ep
         path = out / TRAJECTORY_PNG
         qpos = res["qpos"][0]
         trajectory_figure(path, [(beh.name, qpos, find_jumps(qpos, p))])

@@ -13,9 +13,8 @@ import numpy as np
 from locustjump import rundir
 from locustjump.errors import UserError
 from locustjump.present.plots import getup_figure, sweep_figure
-from locustjump.present.stages.base import Claim, Reporter, fmt, yes
+from locustjump.present.stages.base import Claim, Episodes, Reporter, fmt, yes
 from locustjump.sim import model as lm
-from locustjump.sim.engine.job import RolloutResult
 from locustjump.tasks import Behaviour
 from locustjump.tasks.getup import (
     SUCCESS_UZ,
@@ -45,16 +44,9 @@ class GetUpReporter(Reporter):
     )
     headline = ("got_up_from",)
 
-    def write_figures(
-        self,
-        beh: Behaviour,
-        res: RolloutResult,
-        p: lm.LocustParams,
-        out: Path,
-        *,
-        backend: Backend | None = None,
-    ) -> list[Path]:
+    def write_figures(self, ep: Episodes, out: Path) -> list[Path]:
         """``getup.png``: the paper's Fig. 9, U_z over time from each state."""
+        beh, res, p, backend = ep
         path = out / FIGURE
         getup_figure(path, up_z(res), beh.rolls, SUCCESS_UZ)
         return [path]

@@ -7,16 +7,13 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from locustjump.present.plots import trajectory_figure
-from locustjump.present.stages.base import Claim, Reporter, fmt, yes
+from locustjump.present.stages.base import Claim, Episodes, Reporter, fmt, yes
 from locustjump.rundir.layout import EVAL
-from locustjump.sim import model as lm
 from locustjump.sim.analysis import find_jumps
-from locustjump.sim.engine.job import RolloutResult
-from locustjump.tasks import Behaviour
 from locustjump.tasks.rules import run_rules
 
 if TYPE_CHECKING:
-    from locustjump.sim.engine.backends import Backend
+    pass
 
 FIGURE = "kick_vs_rules.png"  # Fig. 7
 #: The paper (Fig. 7): the evolved kick jumps about 2x as high as the rule.
@@ -38,17 +35,10 @@ class KickReporter(Reporter):
     figures = ((f"{EVAL}/{FIGURE}", "kick", "Kick vs rule-based (Fig. 7):"),)
     headline = ("apex_height_m", "apex_height_ratio_to_rules")
 
-    def write_figures(
-        self,
-        beh: Behaviour,
-        res: RolloutResult,
-        p: lm.LocustParams,
-        out: Path,
-        *,
-        backend: Backend | None = None,
-    ) -> list[Path]:
+    def write_figures(self, ep: Episodes, out: Path) -> list[Path]:
         """``kick_vs_rules.png``: the paper's Fig. 7, evolved kick beside the
         rule-based jumping over the same episode length."""
+        beh, res, p, backend = ep
         qpos = res["qpos"][0]
         rules = run_rules(steps=beh.n_steps, model_params=p, backend=backend)
         path = out / FIGURE

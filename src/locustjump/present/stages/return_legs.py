@@ -6,14 +6,11 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from locustjump.present.plots import joint_angles_figure
-from locustjump.present.stages.base import Claim, Reporter, yes
+from locustjump.present.stages.base import Claim, Episodes, Reporter, yes
 from locustjump.rundir.layout import EVAL
-from locustjump.sim import model as lm
-from locustjump.sim.engine.job import RolloutResult
-from locustjump.tasks import Behaviour
 
 if TYPE_CHECKING:
-    from locustjump.sim.engine.backends import Backend
+    pass
 
 FIGURE = "return_legs.png"  # Fig. 10
 #: What we count as "the legs return to phi" (stated in results.md).
@@ -24,17 +21,10 @@ class ReturnLegsReporter(Reporter):
     figures = ((f"{EVAL}/{FIGURE}", "return-legs", "Returning the legs (Fig. 10):"),)
     headline = ("final_error_deg",)
 
-    def write_figures(
-        self,
-        beh: Behaviour,
-        res: RolloutResult,
-        p: lm.LocustParams,
-        out: Path,
-        *,
-        backend: Backend | None = None,
-    ) -> list[Path]:
+    def write_figures(self, ep: Episodes, out: Path) -> list[Path]:
         """``return_legs.png``: the paper's Fig. 10, the joint angles over time
         converging to phi."""
+        beh, res, p, backend = ep
         path = out / FIGURE
         joint_angles_figure(path, res["obs"][0, :, 0:4], p.ready_angles())
         return [path]

@@ -12,18 +12,15 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from locustjump.present.plots import composed_figure
-from locustjump.present.stages.base import Claim, Reporter, fmt, yes
+from locustjump.present.stages.base import Claim, Episodes, Reporter, fmt, yes
 from locustjump.rundir.layout import EVAL
-from locustjump.sim import model as lm
 from locustjump.sim.analysis import find_jumps
-from locustjump.sim.engine.job import RolloutResult
-from locustjump.tasks import Behaviour
 from locustjump.tasks.composed import SIMPLE, Composed
 from locustjump.tasks.monolithic import Monolithic
 from locustjump.tasks.rules import run_rules
 
 if TYPE_CHECKING:
-    from locustjump.sim.engine.backends import Backend
+    pass
 
 #: The paper (Fig. 12): every composed jump is more than 2x the rule's.
 PAPER_COMPOSED_RATIO = 2.0
@@ -41,17 +38,10 @@ class SuccessiveReporter(Reporter):
 
     headline = ("jumps", "apex_heights_m")
 
-    def write_figures(
-        self,
-        beh: Behaviour,
-        res: RolloutResult,
-        p: lm.LocustParams,
-        out: Path,
-        *,
-        backend: Backend | None = None,
-    ) -> list[Path]:
+    def write_figures(self, ep: Episodes, out: Path) -> list[Path]:
         """``<name>.png``: the paper's Fig. 12, the trajectory over the
         rule-based one and, under it, which simple behaviour was selected."""
+        beh, res, p, backend = ep
         qpos = res["qpos"][0]
         rules = run_rules(steps=beh.n_steps, model_params=p, backend=backend)
         selected = res["memory"][0, 1:, 0] if "memory" in res.records else None
