@@ -19,7 +19,6 @@ target: ratio <= 1.15.
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import statistics
 import sys
 import tempfile
@@ -116,7 +115,7 @@ def measure(
         optimizer=RCGAParams(population=population),
     )
     if engine is not None:
-        cfg = cfg.replace(model=dataclasses.replace(cfg.model, engine=engine))
+        cfg = cfg.replace(engine=engine)
     simple = simple if get_behaviour(behaviour, None).requires else None
     beh = get_behaviour(behaviour, None if simple is None else simple.genomes)
     p = cfg.model
@@ -144,7 +143,8 @@ def measure(
             steps.append(int(row["control_steps"][-1]))
             genomes = ga.ask()
             rec = (*beh.record, "ctrl")
-            res = beh.simulate(genomes, p, record=rec, backend=backend)
+            res = beh.simulate(genomes, p, record=rec, backend=backend,
+                               engine=cfg.engine)  # fmt: skip
             ga.tell(beh.fitness(res, p))
             ep_starts = starts.take(np.tile(np.arange(len(starts)), len(genomes)))
             phys.append(

@@ -63,13 +63,14 @@ class _TimedCore:
 
 def measure(n: int, steps: int, threads: int, path: str) -> tuple[float, float]:
     """(serial, in C) seconds per control step of one rollout on ``path``."""
-    p = lm.LocustParams(engine="numpy" if path == "numpy" else "numba")
+    p = lm.LocustParams()
     beh = get_behaviour("getup")
     starts = beh.start_states(p)
     genomes = MLP().random_genomes(np.random.default_rng(n), n)
     job = RolloutJob(
-        p, MLP(), genomes, starts.take(np.arange(n) % len(starts)), steps, beh.record
-    )
+        p, MLP(), genomes, starts.take(np.arange(n) % len(starts)), steps, beh.record,
+        engine="numpy" if path == "numpy" else "numba",
+    )  # fmt: skip
     batch = Batch(lm.load_model(p), n, threads, persistent=True)
     core = _TimedCore(batch._b)
     object.__setattr__(batch, "_b", core)

@@ -40,7 +40,7 @@ def main() -> None:
                          f"{m['takeoff_angle_deg']:.0f}"])  # fmt: skip
             summary.append(m["apex_height_ratio_to_rules"])
         elif cfg.behaviour == "getup":
-            sw = sweep_getup(best.genome, cfg.model, sweep_angles())
+            sw = sweep_getup(best.genome, cfg.model, sweep_angles(), engine=cfg.engine)
             header = ["seed", "pop x best-gen/gens", "fitness (mean U_z)",
                       "training states got up from", "sweep: got up from"]  # fmt: skip
             rows.append([cfg.seed, budget, f"{ev.fitness:.3f}", m["got_up_from"],

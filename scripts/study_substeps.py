@@ -35,7 +35,7 @@ def fitness_at(run: Path) -> tuple[object, list[float]]:
     out = []
     for n in SUBSTEPS:
         p = dataclasses.replace(cfg.model, substeps=n)
-        res = beh.simulate(best.genome[None], p, record=beh.record)
+        res = beh.simulate(best.genome[None], p, record=beh.record, engine=cfg.engine)
         out.append(float(beh.fitness(res, p)[0]))
     return cfg, out
 

@@ -174,7 +174,7 @@ def test_composed_bad_input(simple_runs, tmp_path, capsys):
     assert "only for train composed" in capsys.readouterr().err
     # how the creature is computed may differ (engine, substeps), not which
     cfg = TrainConfig(behaviour="composed")
-    finer = cfg.model.__class__(substeps=6, engine="numpy")
+    finer = cfg.model.__class__(substeps=6)
     rundir.FrozenGenomes.from_runs(SIMPLE_BEHAVIOURS, simple_runs, finer)
     # different model parameters
     with pytest.raises(UserError, match="model parameters differ"):

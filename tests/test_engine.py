@@ -3,11 +3,10 @@ reference: the kernels' arithmetic step by step, bit for bit where it is the
 same operations and within a stated tolerance where it is not (the networks),
 and the same control flow (blow-ups, frozen records) on both paths."""
 
-import dataclasses
-
 import numpy as np
 import pytest
 
+from locustjump.errors import UserError
 from locustjump.rundir.config import TrainConfig
 from locustjump.sim import kernels, sensors
 from locustjump.sim.controller import MLP
@@ -41,11 +40,10 @@ def test_tanh_and_exp_are_within_two_ulp_of_numpy():
 def states(params):
     """Real states: 40 getup episodes (5 start states x 8 random networks) on
     the NumPy path, every 10th control step of 300."""
-    p = dataclasses.replace(params, engine="numpy")
     beh = get_behaviour("getup")
     genomes = MLP().random_genomes(np.random.default_rng(2), 8)
-    res = beh.simulate(genomes, p, record=("qpos", "obs", "ctrl"),
-                       backend=ThreadBackend(2))  # fmt: skip
+    res = beh.simulate(genomes, params, record=("qpos", "obs", "ctrl"),
+                       backend=ThreadBackend(2), engine="numpy")  # fmt: skip
     pick = slice(0, 300, 10)
     n = res["qpos"].shape[0]
     flat = {k: res[k][:, pick].reshape(-1, res[k].shape[-1]) for k in res.records}
@@ -114,9 +112,8 @@ def test_blowups_are_handled_alike_on_both_paths(params, mjmodel, blowups):
     starts.qvel[blowups, :] = 1e30
     runs = {}
     for engine in ("numpy", "numba"):
-        p = dataclasses.replace(params, engine=engine)
-        job = RolloutJob(p, rc, rc.params_for([0.0, 0.25, 0.5]), starts, 60,
-                         ("qpos", "obs", "ctrl", "memory"))  # fmt: skip
+        job = RolloutJob(params, rc, rc.params_for([0.0, 0.25, 0.5]), starts, 60,
+                         ("qpos", "obs", "ctrl", "memory"), engine=engine)  # fmt: skip
         runs[engine] = ThreadBackend(2).run(job)
     a, b = runs["numpy"], runs["numba"]
     assert a.unstable.tolist() == [e in blowups for e in range(3)]
@@ -126,15 +123,33 @@ def test_blowups_are_handled_alike_on_both_paths(params, mjmodel, blowups):
     assert a.control_steps == b.control_steps
 
 
-def test_runs_record_their_engine_and_old_configs_read_numpy(tmp_path):
+#: config hashes of runs made before the engine was the run's (shipped runs
+#: hold such configs): the default config, with ``engine`` under ``[model]``
+#: as "numba", and with none (made before the compiled engine)
+_HASH_MODEL_ENGINE_NUMBA = "1c1e0a431ebc3af3"  # e4febb0: TrainConfig().hash()
+_HASH_NO_ENGINE = "732d98bacb9a8b94"
+
+
+def test_runs_record_their_engine_and_old_configs_keep_their_hash(tmp_path):
     from locustjump import rundir
 
     new = TrainConfig()
-    assert new.model.engine == "numba" and new.to_dict()["model"]["engine"] == "numba"
-    old = new.replace(model=dataclasses.replace(new.model, engine="numpy"))
-    table = old.to_dict()
-    del table["model"]["engine"]  # as written before the compiled path
-    rundir.write_toml(tmp_path / "config.toml", table)
-    read = rundir.load_config(tmp_path / "config.toml")
-    assert read.model.engine == "numpy" and read.hash() == old.hash()
-    assert new.hash() != old.hash()
+    assert new.engine == "numba" and new.to_dict()["engine"] == "numba"
+    assert "engine" not in new.to_dict()["model"]
+    old = new.replace(engine="numpy")
+    assert (new.hash(), old.hash()) == (_HASH_MODEL_ENGINE_NUMBA, _HASH_NO_ENGINE)
+    for engine, table in (("numba", {"engine": "numba"}), ("numpy", {})):
+        d = new.to_dict()
+        del d["engine"]
+        d["model"].update(table)  # as written before the engine was the run's
+        rundir.write_toml(tmp_path / "config.toml", d)
+        read = rundir.load_config(tmp_path / "config.toml")
+        assert (
+            read.engine == engine and read.hash() == new.replace(engine=engine).hash()
+        )
+        assert "engine" not in read.to_dict()["model"]
+    d = new.to_dict()
+    d["model"]["engine"] = "numba"
+    rundir.write_toml(tmp_path / "config.toml", d)
+    with pytest.raises(UserError, match="not two"):
+        rundir.load_config(tmp_path / "config.toml")

@@ -93,8 +93,6 @@ def _env_fitness(task: str, genome: np.ndarray) -> float:
 )
 def test_evolved_genome_gets_engine_fitness(shipped, stage, task):
     cfg, beh, best = rundir.load_run(shipped / stage)
-    engine = float(
-        beh.fitness(beh.simulate(best.genome[None], cfg.model), cfg.model)[0]
-    )
+    engine = float(beh.evaluate(best.genome[None], cfg.model, engine=cfg.engine)[0][0])
     assert engine == best.fitness  # the engine reproduces the recorded fitness
     np.testing.assert_allclose(_env_fitness(task, best.genome), engine, rtol=1e-9)

@@ -57,12 +57,12 @@ def _same(a, b) -> None:
 
 
 def _getup_job(substeps: int, controller, n: int, steps: int, seed: int = 0):
-    p = lm.LocustParams(engine="numba", substeps=substeps)
+    p = lm.LocustParams(substeps=substeps)
     starts = get_behaviour("getup").start_states(p)
     rng = np.random.default_rng(seed)
     params = rng.uniform(-1, 1, (n, controller.num_params))
     return RolloutJob(p, controller, params, starts.take(np.arange(n) % len(starts)),
-                      steps, RECORDABLE)  # fmt: skip
+                      steps, RECORDABLE, engine="numba")  # fmt: skip
 
 
 @pytest.mark.parametrize("substeps", [1, 3])
@@ -87,11 +87,12 @@ def test_the_switcher_in_the_callback_gives_the_step_loops_numbers(every):
 def test_blowups_are_simulated_again_on_the_step_loop():
     """qvel 100 fails at control step 57, 1e30 at once: their records and
     steps are the step loop's; the others are those of a run without them."""
-    p = lm.LocustParams(engine="numba")
+    p = lm.LocustParams()
     starts = StartStates.ready(lm.load_model(p)).take([0, 0, 0, 0])
     starts.qvel[:, :] = np.array([0.0, 100.0, 0.0, 1e30])[:, None]
     genome = MLP().random_genomes(np.random.default_rng(1), 1, 3.0)
-    job = RolloutJob(p, MLP(), np.repeat(genome, 4, 0), starts, 120, RECORDABLE)
+    job = RolloutJob(p, MLP(), np.repeat(genome, 4, 0), starts, 120, RECORDABLE,
+                     engine="numba")  # fmt: skip
     a, b = _both(job)
     _same(a, b)
     assert b.unstable.tolist() == [False, True, False, True]

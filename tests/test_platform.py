@@ -15,7 +15,6 @@ from locustjump.present.render import playback_of
 from locustjump.rundir.config import TrainConfig
 from locustjump.runs.trainer import train
 from locustjump.sim.controller import MLP
-from locustjump.sim.model import LocustParams
 from locustjump.tasks import Behaviour, register_behaviour
 from locustjump.tasks.kick import ready_start
 
@@ -68,7 +67,7 @@ def test_a_new_behaviour_gets_an_environment(stand, tmp_path):
     # by ulps, tests/test_engine.py)
     cfg = TrainConfig(behaviour="stand-tall", generations=1,
                       optimizer=RCGAParams(population=4), seed=3,
-                      model=LocustParams(engine="numpy"))  # fmt: skip
+                      engine="numpy")  # fmt: skip
     train(cfg, tmp_path / "s", progress=False)
     _, beh, best = rundir.load_run(tmp_path / "s")
     env = LocustEnv(StandTall())

@@ -1,20 +1,18 @@
 """The batched engine against the single-MjData reference, and determinism."""
 
-import dataclasses
-
 import numpy as np
 import pytest
 
 from locustjump.sim.controller import MLP
 from locustjump.sim.engine.backends import ThreadBackend
 from locustjump.sim.engine.episode import reference_rollout
+from locustjump.sim.engine.job import ENGINES
 from locustjump.sim.engine.rollout import (
     RolloutJob,
     RolloutResult,
     StartStates,
     rollout,
 )
-from locustjump.sim.params import ENGINES
 from locustjump.tasks.rules import RuleController
 
 RECORD = ("qpos", "obs", "ctrl", "memory")
@@ -32,13 +30,13 @@ def mlp_job(request, params, mjmodel):
     net = MLP()
     genomes = net.random_genomes(np.random.default_rng(7), 5, scale=2.0)
     starts = StartStates.ready(mjmodel)
-    p = dataclasses.replace(params, engine=request.param)
-    return RolloutJob(p, net, genomes, starts.take([0] * 5), 120, RECORD)
+    return RolloutJob(params, net, genomes, starts.take([0] * 5), 120, RECORD,
+                      engine=request.param)  # fmt: skip
 
 
 def test_engine_matches_reference_mlp(mlp_job):
     got, ref = ThreadBackend(2).run(mlp_job), reference_rollout(mlp_job)
-    if mlp_job.model_params.engine == "numpy":
+    if mlp_job.engine == "numpy":
         _equal(got, ref)  # the reference is the NumPy path, episode by episode
     else:  # the compiled networks differ by ulps a step; 120 steps grow them
         for k in got.records:
@@ -51,12 +49,13 @@ def test_engine_matches_reference_rules(params, mjmodel, engine):
     # no network: both paths are the same arithmetic, bit for bit
     rc = RuleController.for_model(params)
     job = RolloutJob(
-        dataclasses.replace(params, engine=engine),
+        params,
         rc,
         rc.params_for([0.0, 0.25, 0.5]),
         StartStates.ready(mjmodel).take([0, 0, 0]),
         200,
         RECORD,
+        engine=engine,
     )
     _equal(ThreadBackend(2).run(job), reference_rollout(job))
 

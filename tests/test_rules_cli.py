@@ -1,4 +1,3 @@
-import dataclasses
 import json
 
 import mujoco
@@ -49,7 +48,6 @@ def test_rules_with_getup_hand_over_below_the_threshold(params, rng):
     """The hybrid is the rules while U_z >= below and the get-up network while
     U_z < below, step for step and bit for bit (NumPy path: on the compiled
     one the network alone would run its kernel, within ulps of NumPy's)."""
-    params = dataclasses.replace(params, engine="numpy")
     rules = RuleController.for_model(params)
     getup = MLP().random_genomes(rng, 1)[0]
     side = rolled_starts(params, (START_ROLL,))
@@ -57,7 +55,8 @@ def test_rules_with_getup_hand_over_below_the_threshold(params, rng):
     rec = ("qpos", "obs", "ctrl")
 
     def run(ctl, p, starts, steps=400):
-        return rollout(ctl, p, starts, steps, model_params=params, record=rec)
+        return rollout(ctl, p, starts, steps, model_params=params, record=rec,
+                       engine="numpy")  # fmt: skip
 
     alone = run(rules, rules.params_for(0.5), standing)
     never = RuleGetupController(rules, below=-2.0)

@@ -316,7 +316,7 @@ def test_score_substeps_takes_the_worst_resolution(tmp_path, capsys):
     _, beh, best = rundir.load_run(robust)
     p = cfg.model
     each = [
-        beh.fitness(beh.simulate(best.genome[None], q), q)[0]
+        beh.fitness(beh.simulate(best.genome[None], q, engine=cfg.engine), q)[0]
         for q in (p, *(dataclasses.replace(p, substeps=s) for s in (6, 12)))
     ]
     assert best.fitness == min(each)

@@ -18,6 +18,7 @@ from locustjump.present.render import CAMERAS
 from locustjump.runs.reproduce import BUDGETS
 from locustjump.sim import model as lm
 from locustjump.sim.engine.backends import BACKENDS
+from locustjump.sim.engine.job import ENGINES
 from locustjump.tasks import behaviour_names
 from locustjump.tasks.rules import DEFAULT_CHANGE_TIME
 from locustjump.version import __version__
@@ -79,7 +80,7 @@ def _add_optimizer(p: argparse.ArgumentParser, default: str | None) -> None:
     )
     p.add_argument(
         "--engine",
-        choices=lm.ENGINES,
+        choices=ENGINES,
         help="how the controllers are computed between physics steps: numba "
         "(compiled, the default for new runs) or numpy (the reference; runs "
         "made before the compiled path); recorded in config.toml",

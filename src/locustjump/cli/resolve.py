@@ -45,7 +45,7 @@ def resolve_config(
             "optimizer": cfg.optimizer.kind,
             "seed": cfg.seed,
             "population": cfg.population,
-            "engine": cfg.model.engine,
+            "engine": cfg.engine,
             "switch-every": getattr(cfg.options, "switch_every", None),
             "score-substeps": cfg.options.score_substeps,
         }
@@ -78,7 +78,7 @@ def resolve_config(
         if seed is not None:
             cfg = cfg.replace(seed=seed)
         if engine is not None:
-            cfg = cfg.replace(model=dataclasses.replace(cfg.model, engine=engine))
+            cfg = cfg.replace(engine=engine)
         if switch_every is not None:
             if not hasattr(cfg.options, "switch_every"):
                 raise UserError(

@@ -63,7 +63,7 @@ def _key(cfg, by: str) -> str:
     if by == "optimizer":
         return optimizer_label(cfg.optimizer)
     if by == "engine":
-        return cfg.model.engine
+        return cfg.engine
     return str(getattr(cfg, by))
 
 

@@ -54,22 +54,27 @@ def evaluate_run(
     out = Path(path)
     cfg, beh, best = rundir.load_run(out)
     p = cfg.model
-    res = beh.simulate(
-        best.genome[None], p, backend=backend, record=beh.eval_record,
-        label=f"evaluate {cfg.behaviour}",
+    fit, res = beh.evaluate(
+        best.genome[None], p, backend=backend, engine=cfg.engine,
+        record=beh.eval_record, label=f"evaluate {cfg.behaviour}",
     )  # fmt: skip
-    fitness = float(beh.score(best.genome[None], res, p, backend=backend)[0])
-    metrics = beh.metrics(res, p, best.genome, backend=backend)
+    reference = beh.reference(p, backend=backend, engine=cfg.engine)
+    metrics = (  # a behaviour without a reference need not take one
+        beh.metrics(res, p, best.genome)
+        if reference is None
+        else beh.metrics(res, p, best.genome, reference)
+    )
+    episodes = Episodes(beh, res, p, reference)
     ev = out / rundir.EVAL if eval_dir is None else Path(eval_dir)
     if eval_dir is None:
         with rundir.locked(out):
-            return _write(cfg, beh, best, res, fitness, metrics, ev, backend)
-    return _write(cfg, beh, best, res, fitness, metrics, ev, backend)
+            return _write(cfg, best, episodes, float(fit[0]), metrics, ev)
+    return _write(cfg, best, episodes, float(fit[0]), metrics, ev)
 
 
-def _write(cfg, beh, best, res, fitness, metrics, ev: Path, backend) -> Evaluation:
+def _write(cfg, best, episodes: Episodes, fitness, metrics, ev: Path) -> Evaluation:
     """Trajectory CSVs and the behaviour's figures into ``ev``."""
-    p = cfg.model
+    beh, res = episodes.behaviour, episodes.res
     ev.mkdir(parents=True, exist_ok=True)
     labels = beh.state_labels()
     files = []
@@ -80,5 +85,5 @@ def _write(cfg, beh, best, res, fitness, metrics, ev: Path, backend) -> Evaluati
         rundir.write_trajectory_csv(
             files[-1], res["qpos"][e], res["obs"][e], res["ctrl"][e]
         )
-    files += reporter_of(beh).write_figures(Episodes(beh, res, p, backend), ev)
+    files += reporter_of(beh).write_figures(episodes, ev)
     return Evaluation(cfg.behaviour, fitness, best.fitness, metrics, files)

@@ -35,7 +35,7 @@ from locustjump.sim import model as lm
 from locustjump.sim import names
 from locustjump.sim.controller import Controller
 from locustjump.sim.engine.episode import Episode
-from locustjump.sim.engine.rollout import StartStates, rollout
+from locustjump.sim.engine.rollout import DEFAULT_ENGINE, StartStates, rollout
 from locustjump.sim.model import CONTROL_DT
 from locustjump.tasks.rules import RuleController
 
@@ -78,20 +78,20 @@ class Playback:
         return self.qpos.shape[1] - 1
 
 
-def _rules_run(path: Path) -> tuple[float, int, lm.LocustParams] | None:
-    """(change time, steps, creature) of a rule-based run directory, else None.
-    Summaries written before the creature was recorded are of the default one."""
+def _rules_run(path: Path) -> tuple[float, int, lm.LocustParams, str] | None:
+    """(change time, steps, creature, engine) of a rule-based run directory,
+    else None. Summaries written before the creature was recorded are of the
+    default one; before the engine was the run's, it was the creature's."""
     if not rundir.is_rules_run(path):
         return None
     f = path / rundir.RULES_SUMMARY
     summary = rundir.read_json(f)
     try:
-        p = (
-            from_table(lm.LocustParams, summary["model"], "model", str(f))
-            if "model" in summary
-            else lm.LocustParams()
-        )
-        return float(summary["change_time_s"]), int(summary.get("steps", 3000)), p
+        model = dict(summary.get("model", {}))
+        engine = summary.get("engine", model.pop("engine", DEFAULT_ENGINE))
+        p = from_table(lm.LocustParams, model, "model", str(f))
+        steps = int(summary.get("steps", 3000))
+        return float(summary["change_time_s"]), steps, p, str(engine)
     except (KeyError, TypeError, ValueError) as e:
         raise UserError(f"{f}: not a rule-based run summary ({e})") from None
 
@@ -101,6 +101,7 @@ class Source:
     """A controller and its episodes, as a directory holds them."""
 
     model_params: lm.LocustParams
+    engine: str  # the engine it was simulated on
     controller: Controller
     params: np.ndarray  # (1, num_params)
     starts: StartStates
@@ -128,10 +129,11 @@ def source_of(path: str | os.PathLike) -> Source:
                 f"{out}: holds no run (no {rundir.CONFIG}) and no rule-based run "
                 f"(no {rundir.RULES_SUMMARY} + {rundir.TRAJECTORY_CSV})"
             )
-        change_time, steps, p = rules
+        change_time, steps, p, engine = rules
         rc = RuleController.for_model(p)
         return Source(
             p,
+            engine,
             rc,
             rc.params_for(change_time),
             StartStates.ready(lm.load_model(p)),
@@ -143,6 +145,7 @@ def source_of(path: str | os.PathLike) -> Source:
     labels = beh.state_labels()
     return Source(
         cfg.model,
+        cfg.engine,
         beh.controller,
         best.genome[None],
         beh.start_states(cfg.model),
@@ -167,6 +170,7 @@ def playback_of(path: str | os.PathLike, *, backend: Backend | None = None) -> P
         model_params=src.model_params,
         record=record,
         backend=backend,
+        engine=src.engine,
     )
     captions = None
     if src.memory_names is not None:

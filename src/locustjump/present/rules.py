@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING
 from locustjump import rundir
 from locustjump.present.plots import trajectory_figure
 from locustjump.sim import model as lm
+from locustjump.sim.engine.job import DEFAULT_ENGINE
 from locustjump.tasks.rules import DEFAULT_CHANGE_TIME, RulesRun, run_rules
 
 if TYPE_CHECKING:
@@ -25,13 +26,16 @@ def write_rules_run(
     *,
     model_params: lm.LocustParams = lm.LocustParams(),
     backend: Backend | None = None,
+    engine: str = DEFAULT_ENGINE,
 ) -> RulesRun:
     """Run the rules and write a rule-based run directory ``out`` (created if
     absent): ``trajectory.csv``, ``trajectory.png`` and ``summary.json``, which
-    records the creature so that a video re-simulates the same one."""
+    records the creature and the engine so that a video re-simulates the same
+    episode."""
     run = run_rules(
-        change_time, steps, model_params=model_params, backend=backend, label="rules"
-    )
+        change_time, steps, model_params=model_params, backend=backend,
+        label="rules", engine=engine,
+    )  # fmt: skip
     out.mkdir(parents=True, exist_ok=True)
     rundir.write_trajectory_csv(
         out / rundir.TRAJECTORY_CSV, run.qpos, run.obs, run.ctrl
@@ -53,6 +57,7 @@ def write_rules_run(
             "jumps": len(run.jumps),
             "apex_heights_m": [round(j.apex_height, 4) for j in run.jumps],
             "unstable": run.unstable,
+            "engine": engine,
             "model": model,
         },
     )

@@ -5,6 +5,7 @@
     behaviour = "kick"
     seed = 0
     generations = 1000
+    engine = "numba"     # how the controllers are computed (sim.engine.ENGINES)
 
     [optimizer]          # kind + that optimizer's settings (locustjump.evo)
     kind = "rcga"
@@ -15,7 +16,10 @@
 
 Runs made before optimizers were pluggable hold an ``[rcga]`` table instead of
 ``[optimizer]``; it is read as ``kind = "rcga"`` and hashes the same, so they
-stay valid. Files are read and written by :mod:`locustjump.rundir`.
+stay valid. Runs made before the engine was the run's hold it as
+``model.engine``, and runs made before the compiled engine hold none ("numpy");
+both are read as ``engine`` and hash the same. Files are read and written by
+:mod:`locustjump.rundir`.
 """
 
 from __future__ import annotations
@@ -29,15 +33,17 @@ from typing import Any
 from locustjump.errors import UserError
 from locustjump.evo import RCGAParams, params_class
 from locustjump.sim import model as lm
+from locustjump.sim.engine.job import DEFAULT_ENGINE, ENGINES
 from locustjump.tasks import behaviour_class, behaviour_names
 from locustjump.tasks.base import CommonOptions
 
 #: LocustParams fields newer than the shipped runs: in the config hash only
 #: when not at their default (the default is the creature those runs used)
 _LATER_MODEL_FIELDS = ("strut_stiffness", "strut_damping", "strut_swing")
-#: the engine path of a run whose config holds no ``engine`` (made before the
-#: compiled path): in the hash only when it is another one
-_ENGINE_BEFORE = lm.ENGINES[0]
+#: the engine of a run whose config holds none (made before the compiled
+#: engine): in the hash only when it is another one, under ``model.engine``
+#: where it was hashed before it was the run's
+_ENGINE_BEFORE = "numpy"
 
 
 @dataclass(frozen=True)
@@ -50,6 +56,10 @@ class TrainConfig:
     generations: int = 1000  # paper: 1000
     optimizer: Any = field(default_factory=RCGAParams)  # an optimizer's settings
     model: lm.LocustParams = field(default_factory=lm.LocustParams)
+    #: how the controllers are computed between physics calls
+    #: (:data:`~locustjump.sim.engine.job.ENGINES`): not the creature, but
+    #: recorded, since the engines differ by a few ulp a step
+    engine: str = DEFAULT_ENGINE
     #: behaviours built on frozen runs (composed): digest of their genomes
     simple: str = ""
     #: the behaviour's settings beyond the paper (its ``Options``; default: its
@@ -66,6 +76,10 @@ class TrainConfig:
             raise ValueError(f"generations must be >= 1, got {self.generations}")
         if self.seed < 0:
             raise ValueError(f"seed must be >= 0, got {self.seed}")
+        if self.engine not in ENGINES:
+            raise ValueError(
+                f"engine must be one of {', '.join(ENGINES)}, got {self.engine!r}"
+            )
         params_class(getattr(self.optimizer, "kind", None))
         kind = behaviour_class(self.behaviour).Options
         if self.options is None:
@@ -89,6 +103,7 @@ class TrainConfig:
             "behaviour": self.behaviour,
             "seed": self.seed,
             "generations": self.generations,
+            "engine": self.engine,
             "optimizer": {"kind": self.optimizer.kind, **_table(self.optimizer)},
             "model": _table(self.model),
         }
@@ -105,6 +120,9 @@ class TrainConfig:
         count only when changed, so runs made before keep their hash."""
         d = self.to_dict()
         del d["generations"]
+        engine = d.pop("engine")
+        if engine != _ENGINE_BEFORE:  # where it was hashed when in LocustParams
+            d["model"]["engine"] = engine
         opt = d.pop("optimizer")
         if opt.pop("kind") == "rcga":
             d["rcga"] = opt
@@ -114,8 +132,6 @@ class TrainConfig:
         for name in _LATER_MODEL_FIELDS:
             if d["model"][name] == getattr(default, name):
                 del d["model"][name]
-        if d["model"]["engine"] == _ENGINE_BEFORE:
-            del d["model"]["engine"]
         if self.options == type(self.options)():  # runs made before options
             d.pop("options", None)
         elif "options" in d:  # options added later count only when changed
@@ -129,11 +145,15 @@ class TrainConfig:
     @classmethod
     def from_dict(cls, d: dict[str, Any], source: str) -> TrainConfig:
         """Checked conversion; a ``UserError`` names ``source`` and the key."""
-        top = {"behaviour": "kick", "seed": 0, "generations": 1000, "simple": ""}
+        top = {"behaviour": "kick", "seed": 0, "generations": 1000, "simple": "",
+               "engine": DEFAULT_ENGINE}  # fmt: skip
         kwargs: dict[str, Any] = {}
         options = None
         if "rcga" in d and "optimizer" in d:
             raise UserError(f"{source}: give [optimizer] or the older [rcga], not both")
+        model = d.get("model")
+        if "engine" in d and isinstance(model, dict) and "engine" in model:
+            raise UserError(f"{source}: give engine or the older model.engine, not two")
         for key, value in d.items():
             if key in top:
                 kwargs[key] = coerce(value, top[key], key, source)
@@ -142,8 +162,11 @@ class TrainConfig:
             elif key == "optimizer":
                 kwargs["optimizer"] = optimizer_from_table(value, source)
             elif key == "model":
-                if isinstance(value, dict) and "engine" not in value:
-                    value = {**value, "engine": _ENGINE_BEFORE}
+                if isinstance(value, dict):  # the engine was once the creature's
+                    value = dict(value)
+                    older = value.pop("engine", _ENGINE_BEFORE)
+                    if "engine" not in d:
+                        kwargs["engine"] = coerce(older, "", "model.engine", source)
                 kwargs[key] = from_table(lm.LocustParams, value, key, source)
             elif key == "options":
                 options = value

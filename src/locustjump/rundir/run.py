@@ -35,8 +35,9 @@ from locustjump.tasks import behaviour_class, get_behaviour
 
 
 #: model fields that say how the creature is computed, not which creature it
-#: is: a frozen run may differ from the run built on it in these
-NUMERICAL_MODEL_FIELDS = ("engine", "substeps")
+#: is: a frozen run may differ from the run built on it in these (and in its
+#: engine, which is the run's, not the creature's)
+NUMERICAL_MODEL_FIELDS = ("substeps",)
 
 
 def load_config(path: str | os.PathLike, *, behaviour: str = "kick"):
@@ -158,8 +159,8 @@ class FrozenGenomes:
                     + (f" ({size} genes, not {frozen_size})" if variant else "")
                 )
             # the same creature; how it is computed may differ: the engine
-            # path (frozen networks evolved on NumPy run as well compiled,
-            # within a few ulp a step) and the physics substeps (a network
+            # (not compared: frozen networks evolved on NumPy run as well
+            # compiled, within a few ulp a step) and the physics substeps (a network
             # evolved at 3 may be composed at 6, docs/science.md)
             free = dict.fromkeys(NUMERICAL_MODEL_FIELDS)
             free = {k: getattr(model, k) for k in free}

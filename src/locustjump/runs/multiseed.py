@@ -52,8 +52,8 @@ from locustjump.runs.reproduce import (
     stages_of,
     start_reproduction,
 )
-from locustjump.sim import model as lm
 from locustjump.sim.engine.backends import ThreadBackend
+from locustjump.sim.engine.job import DEFAULT_ENGINE
 from locustjump.sim.engine.ray_backend import connect
 from locustjump.tasks import behaviour_class
 from locustjump.version import __version__
@@ -148,7 +148,7 @@ def reproduce_seeds(
     out = Path(out)
     if engine is None and rundir.is_multiseed(out):
         engine = rundir.read_toml(out / rundir.SEEDS_MARKER).get("engine")
-    engine = engine or lm.LocustParams().engine
+    engine = engine or DEFAULT_ENGINE
     want = {"budget": b.name, "optimizer": optimizer, "engine": engine,
             "population": b.population}  # fmt: skip
     _check_dir(out, want)

@@ -36,6 +36,7 @@ from locustjump.rundir.config import TrainConfig
 from locustjump.runs.trainer import train
 from locustjump.sim import model as lm
 from locustjump.sim.engine.backends import ThreadBackend
+from locustjump.sim.engine.job import DEFAULT_ENGINE, ENGINES
 from locustjump.tasks import behaviour_class
 from locustjump.version import __version__
 
@@ -85,11 +86,6 @@ BUDGETS: dict[str, Budget] = {
 _BEFORE = {"optimizer": "rcga", "engine": "numpy"}
 
 
-def engine_of(out: Path) -> str:
-    """The engine path (``LocustParams.engine``) of reproduction ``out``."""
-    return {**_BEFORE, **rundir.read_toml(Path(out) / rundir.MARKER)}["engine"]
-
-
 def _check_dir(out: Path, want: dict[str, Any]) -> None:
     """A new reproduction needs an absent or empty directory; an existing one
     must have been started with the same budget, seed and optimizer."""
@@ -110,10 +106,12 @@ def _check_dir(out: Path, want: dict[str, Any]) -> None:
         )
 
 
-def run_rules_stage(out: Path, *, backend: Backend | None = None) -> dict[str, Any]:
+def run_rules_stage(
+    out: Path, *, backend: Backend | None = None, engine: str = DEFAULT_ENGINE
+) -> dict[str, Any]:
     """The rule-based baseline: ``rules/trajectory.{csv,png}``, ``summary.json``."""
     t0 = time.perf_counter()
-    r = write_rules_run(out, steps=3000, backend=backend)
+    r = write_rules_run(out, steps=3000, backend=backend, engine=engine)
     summary = rundir.read_json(out / rundir.RULES_SUMMARY)
     summary["first_apex_height_m"] = r.jumps[0].apex_height if r.jumps else None
     summary["final_up_z"] = float(r.obs[-1, 8])
@@ -140,7 +138,7 @@ def single_seed_command(
 ) -> str:
     """The command that makes (and continues) reproduction ``out`` alone."""
     flags = "" if optimizer == "rcga" else f" --optimizer {optimizer}"
-    if engine not in (None, lm.LocustParams().engine):
+    if engine not in (None, DEFAULT_ENGINE):
         flags += f" --engine {engine}"
     return f"locustjump reproduce --budget {budget} --seed {seed}{flags} --out {out}"
 
@@ -168,8 +166,8 @@ def reproduce(
     baseline beyond the paper (as long as the four paper stages together at the
     paper's budget); a later call with it continues and adds it. ``optimizer``
     (a kind of :mod:`locustjump.evo`) trains every stage; ``engine``
-    (``LocustParams.engine``; default: the one ``out`` was started with, else
-    the default path) computes every stage's controllers. Several seeds
+    (:data:`~locustjump.sim.engine.job.ENGINES`; default: the one ``out`` was
+    started with, else the default) computes every stage's controllers. Several seeds
     at once, on a cluster too: :func:`locustjump.runs.multiseed.reproduce_seeds`."""
     b = budget_of(budget)
     out = Path(out)
@@ -179,10 +177,11 @@ def reproduce(
         backend = ThreadBackend()
     out.mkdir(parents=True, exist_ok=True)
     with rundir.locked(out):
-        start_reproduction(out, b, seed, optimizer, command, engine)
+        engine = start_reproduction(out, b, seed, optimizer, command, engine)
         for stage in stages_of(monolithic):
             if not stage_done(out, stage, b):
-                run_stage(out, stage, b, seed, optimizer, backend, progress, log)
+                run_stage(out, stage, b, seed, optimizer, backend, progress, log,
+                          engine)  # fmt: skip
                 rundir.atomic_write_text(out / rundir.RESULTS, results_markdown(out))
             elif stage != rundir.RULES_DIR:
                 log(f"[{stage}] done ({b.of(stage)} generations)")
@@ -199,10 +198,8 @@ def check_reproduction(
 ) -> None:
     """``out`` may hold this reproduction or nothing (``UserError`` otherwise);
     ``engine=None`` accepts the one it was started with."""
-    if engine is not None and engine not in lm.ENGINES:
-        raise UserError(
-            f"unknown engine {engine!r}; choose from {', '.join(lm.ENGINES)}"
-        )
+    if engine is not None and engine not in ENGINES:
+        raise UserError(f"unknown engine {engine!r}; choose from {', '.join(ENGINES)}")
     want = {"budget": b.name, "seed": seed, "optimizer": optimizer}
     _check_dir(out, want if engine is None else {**want, "engine": engine})
 
@@ -214,13 +211,14 @@ def start_reproduction(
     optimizer: str,
     command: str = "",
     engine: str | None = None,
-) -> None:
-    """Write ``out``'s marker, unless it has one (then it must match);
-    ``engine`` defaults to ``LocustParams``'s."""
+) -> str:
+    """Write ``out``'s marker, unless it has one (then it must match); the
+    reproduction's engine (``engine``, or the marker's; default:
+    :data:`~locustjump.sim.engine.job.DEFAULT_ENGINE`)."""
     check_reproduction(out, b, seed, optimizer, engine)
     if rundir.is_reproduction(out):
-        return
-    engine = engine or lm.LocustParams().engine
+        return {**_BEFORE, **rundir.read_toml(out / rundir.MARKER)}["engine"]
+    engine = engine or DEFAULT_ENGINE
     rundir.write_toml(
         out / rundir.MARKER,
         {
@@ -235,6 +233,7 @@ def start_reproduction(
             "locustjump": __version__,
         },
     )
+    return engine
 
 
 def stage_done(out: Path, stage: str, b: Budget) -> bool:
@@ -256,13 +255,14 @@ def run_stage(
     backend: Backend,
     progress: bool = False,
     log: Callable[[str], None] = print,
+    engine: str = DEFAULT_ENGINE,
 ) -> float | None:
     """Run (or continue) one stage of reproduction ``out``, whose marker exists
-    and whose required stages are done; returns the best fitness (``None`` for
-    the rule-based stage)."""
+    (``engine``: the one it holds) and whose required stages are done; returns
+    the best fitness (``None`` for the rule-based stage)."""
     if stage == rundir.RULES_DIR:
         log("[rules] rule-based successive jumping, 3000 steps")
-        run_rules_stage(out / rundir.RULES_DIR, backend=backend)
+        run_rules_stage(out / rundir.RULES_DIR, backend=backend, engine=engine)
         return None
     d = out / stage
     gens = b.of(stage)
@@ -271,7 +271,8 @@ def run_stage(
         seed,
         gens,
         params_class(optimizer)(population=b.population),
-        lm.LocustParams(engine=engine_of(out)),
+        lm.LocustParams(),
+        engine=engine,
     )
     requires = behaviour_class(stage).requires
     frozen = None
@@ -286,7 +287,7 @@ def run_stage(
     ev = evaluate_run(d, backend=backend)
     run_cfg, beh, best = rundir.load_run(d)
     extra = reporter_of(beh).extra_evaluation(
-        beh, d, best.genome, run_cfg.model, backend=backend
+        beh, d, best.genome, run_cfg.model, backend=backend, engine=run_cfg.engine
     )
     rundir.write_json(
         rundir.eval_metrics_path(d),

@@ -244,7 +244,7 @@ def _loop(
         ):
             t0 = time.perf_counter()
             x = opt.ask()
-            fit, res = beh.evaluate(x, p, backend=backend)
+            fit, res = beh.evaluate(x, p, backend=backend, engine=cfg.engine)
             opt.tell(fit)
             g = opt.generation
             i = int(np.argmax(fit))

@@ -27,7 +27,6 @@ defaults were chosen.
 from __future__ import annotations
 
 import copy
-import dataclasses
 import math
 from dataclasses import dataclass, field
 from functools import lru_cache
@@ -39,7 +38,6 @@ from locustjump.errors import UserError
 from locustjump.sim import names
 from locustjump.sim.params import (  # noqa: F401 (re-exported)
     CONTROL_DT,
-    ENGINES,
     LocustParams,
 )
 
@@ -254,10 +252,8 @@ def _compiled(p: LocustParams) -> mujoco.MjModel:
 
 
 def load_model(p: LocustParams = LocustParams()) -> mujoco.MjModel:
-    """A fresh ``MjModel`` of the creature (compiled once per parameter set;
-    the ``engine`` field is not physics)."""
-    m = _compiled(dataclasses.replace(p, engine=ENGINES[0]))
-    return copy_model(m)
+    """A fresh ``MjModel`` of the creature (compiled once per parameter set)."""
+    return copy_model(_compiled(p))
 
 
 def check_model(p: LocustParams) -> None:

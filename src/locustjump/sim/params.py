@@ -47,11 +47,6 @@ _RANGES: dict[str, tuple[float, float, bool]] = {
     "ls_iterations": (1, 10000, True),
 }
 _INTEGRATORS = ("Euler", "RK4", "implicit", "implicitfast")
-#: How the controller's arithmetic is computed between physics steps
-#: (:mod:`~locustjump.sim.kernels`): NumPy, or one compiled kernel per
-#: control step.
-#: Runs made before the compiled path hold no ``engine`` key: "numpy".
-ENGINES = ("numpy", "numba")
 
 
 @dataclass(frozen=True)
@@ -120,11 +115,6 @@ class LocustParams:
     friction: float = 1.0  # (-) sliding friction coefficient
     iterations: int = 50
     ls_iterations: int = 20
-    # Not physics: which path computes the sensors, networks and actuation
-    # between two physics steps (ENGINES). They agree bit for bit but for the
-    # networks' sums and tanh (a few ulp a step, docs/performance.md), so a
-    # run records its path and is re-simulated on it.
-    engine: str = "numba"
 
     def __post_init__(self) -> None:
         for f in dataclasses.fields(self):
@@ -140,10 +130,6 @@ class LocustParams:
                     f"{name} must be in {bound}{lo:g}, {hi:g}] (docs/physics.md), "
                     f"got {v}"
                 )
-        if self.engine not in ENGINES:
-            raise ValueError(
-                f"engine must be one of {', '.join(ENGINES)}, got {self.engine!r}"
-            )
         if self.integrator not in _INTEGRATORS:
             raise ValueError(
                 f"integrator must be one of {', '.join(_INTEGRATORS)}, "

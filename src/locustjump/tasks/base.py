@@ -15,7 +15,13 @@ import numpy as np
 
 from locustjump.sim import model as lm
 from locustjump.sim.controller import MLP, Controller
-from locustjump.sim.engine.rollout import RolloutResult, StartStates, rollout
+from locustjump.sim.engine.rollout import (
+    DEFAULT_ENGINE,
+    RolloutResult,
+    StartStates,
+    rollout,
+)
+from locustjump.tasks.rules import RulesRun
 
 if TYPE_CHECKING:
     from locustjump.sim.engine.backends import Backend
@@ -172,15 +178,26 @@ class Behaviour:
         """(n_episodes,) fitness of each episode of ``res``."""
         raise NotImplementedError
 
+    def reference(
+        self,
+        p: lm.LocustParams,
+        *,
+        backend: Backend | None = None,
+        engine: str = DEFAULT_ENGINE,
+    ) -> RulesRun | None:
+        """The rule-based episode its metrics and figures compare with
+        (simulated once per evaluation; ``None``: it compares with none)."""
+        return None
+
     def metrics(
         self,
         res: RolloutResult,
         p: lm.LocustParams,
         genome: np.ndarray,
-        *,
-        backend: Backend | None = None,
+        reference: RulesRun | None = None,
     ) -> dict[str, Any]:
-        """Behaviour metrics of one controller's episodes (JSON-serialisable)."""
+        """Behaviour metrics of one controller's episodes (JSON-serialisable);
+        ``reference``: what :meth:`reference` simulated."""
         return {"fitness": float(self.fitness(res, p)[0])}
 
     def state_labels(self) -> list[str]:
@@ -199,11 +216,12 @@ class Behaviour:
         p: lm.LocustParams,
         *,
         backend: Backend | None = None,
+        engine: str = DEFAULT_ENGINE,
         record: tuple[str, ...] | None = None,
         label: str = "",
     ) -> RolloutResult:
-        """Every genome from every start state (controller-major episodes);
-        ``label``: a progress bar on a terminal."""
+        """Every genome from every start state (controller-major episodes),
+        unscored; ``label``: a progress bar on a terminal."""
         return rollout(
             self.controller,
             genomes,
@@ -213,6 +231,7 @@ class Behaviour:
             record=self.record if record is None else record,
             backend=backend,
             label=label,
+            engine=engine,
         )
 
     def fitness(self, res: RolloutResult, p: lm.LocustParams) -> np.ndarray:
@@ -227,27 +246,26 @@ class Behaviour:
         p: lm.LocustParams,
         *,
         backend: Backend | None = None,
+        engine: str = DEFAULT_ENGINE,
+        record: tuple[str, ...] | None = None,
+        label: str = "",
     ) -> tuple[np.ndarray, RolloutResult]:
-        """Fitness (n,) of genomes (n, P) and the rollout it came from."""
-        res = self.simulate(genomes, p, backend=backend)
-        return self.score(genomes, res, p, backend=backend), res
+        """Simulate genomes (n, P) and score them: their fitness (n,) and the
+        rollout it came from (``record``: its fields, default :attr:`record`).
 
-    def score(
-        self,
-        genomes: np.ndarray,
-        res: RolloutResult,
-        p: lm.LocustParams,
-        *,
-        backend: Backend | None = None,
-    ) -> np.ndarray:
-        """Fitness (n,) of ``genomes`` from their rollout ``res`` at ``p``; with
-        the option ``score_substeps``, the minimum of it and of their fitness
-        at each of those resolutions (simulated here; their control steps are
-        added to ``res.control_steps``)."""
+        The fitness is :meth:`fitness` of the rollout; with the option
+        ``score_substeps``, the minimum of it and of the fitness at each of
+        those resolutions (simulated here too; their control steps are added
+        to the rollout's ``control_steps``)."""
+        res = self.simulate(
+            genomes, p, backend=backend, engine=engine, record=record, label=label
+        )
         fit = self.fitness(res, p)
         for substeps in self.options.score_substeps:
             q = dataclasses.replace(p, substeps=substeps)
-            other = self.simulate(genomes, q, backend=backend, record=self.record)
+            other = self.simulate(
+                genomes, q, backend=backend, engine=engine, record=self.record
+            )
             fit = np.minimum(fit, self.fitness(other, q))
             res.control_steps += other.control_steps
-        return fit
+        return fit, res

@@ -27,11 +27,11 @@ import numpy as np
 from locustjump.sim import model as lm
 from locustjump.sim.analysis import find_jumps
 from locustjump.sim.controller import MLP, Controller, MLPWeights
-from locustjump.sim.engine.job import RolloutResult, StartStates
+from locustjump.sim.engine.job import DEFAULT_ENGINE, RolloutResult, StartStates
 from locustjump.sim.kernels import soa
 from locustjump.tasks.base import Behaviour, CommonOptions, StepReward
 from locustjump.tasks.getup import SUCCESS_UZ, rolled_starts
-from locustjump.tasks.rules import run_rules
+from locustjump.tasks.rules import RulesRun, run_rules
 
 if TYPE_CHECKING:
     from locustjump.sim.engine.backends import Backend
@@ -172,19 +172,31 @@ class Successive(Behaviour):
     def episode_fitness(self, res: RolloutResult, p: lm.LocustParams) -> np.ndarray:
         return res["qpos"][:, 1:, 2].sum(axis=1)
 
+    def reference(
+        self,
+        p: lm.LocustParams,
+        *,
+        backend: Backend | None = None,
+        engine: str = DEFAULT_ENGINE,
+    ) -> RulesRun:
+        """The rule-based jumping over the same episode length."""
+        return run_rules(
+            steps=self.n_steps, model_params=p, backend=backend, engine=engine
+        )
+
     def metrics(
         self,
         res: RolloutResult,
         p: lm.LocustParams,
         genome: np.ndarray,
-        *,
-        backend: Backend | None = None,
+        reference: RulesRun | None = None,
     ) -> dict[str, Any]:
         """Jumps and their apexes, distance, overturns, and each jump's apex
-        over the rule-based jumps' mean apex (paper: > 2x at every jump)."""
+        over the rule-based jumps' mean apex (paper: > 2x at every jump;
+        ``reference``: :meth:`reference`, simulated here if not given)."""
         qpos, uz = res["qpos"][0], res["obs"][0, :, 8]
         jumps = find_jumps(qpos, p)
-        rules = run_rules(steps=self.n_steps, model_params=p, backend=backend)
+        rules = self.reference(p) if reference is None else reference
         rule_apex = [j.apex_height for j in rules.jumps]
         over, rec = overturns(uz)
         out: dict[str, Any] = {

@@ -21,11 +21,17 @@ import numpy as np
 from tqdm.auto import tqdm
 
 from locustjump.sim import model as lm
-from locustjump.sim.engine.job import RolloutResult, StartStates, rollout_bytes
+from locustjump.sim.engine.job import (
+    DEFAULT_ENGINE,
+    RolloutResult,
+    StartStates,
+    rollout_bytes,
+)
 from locustjump.sim.engine.rollout import rollout
 from locustjump.sim.model import CONTROL_DT
 from locustjump.sim.resources import require_memory
 from locustjump.tasks.base import Behaviour, StepReward, settle
+from locustjump.tasks.rules import RulesRun
 
 if TYPE_CHECKING:
     from locustjump.sim.engine.backends import Backend
@@ -108,8 +114,7 @@ class GetUp(Behaviour):
         res: RolloutResult,
         p: lm.LocustParams,
         genome: np.ndarray,
-        *,
-        backend: Backend | None = None,
+        reference: RulesRun | None = None,
     ) -> dict[str, Any]:
         s = getup_summary(up_z(res))
         return {
@@ -180,6 +185,7 @@ def sweep_getup(
     angles: np.ndarray,
     *,
     backend: Backend | None = None,
+    engine: str = DEFAULT_ENGINE,
 ) -> Sweep:
     """Evaluate one get-up controller from ``angles`` plus the training states."""
     rolls = tuple(float(a) for a in angles) + TRAIN_ROLLS
@@ -192,6 +198,7 @@ def sweep_getup(
         record=("obs",),
         backend=backend,
         label=f"sweep: {len(rolls)} states",
+        engine=engine,
     )
     uz = np.where(res.unstable[:, None], -1.0, up_z(res))
     s = getup_summary(uz)

@@ -18,10 +18,10 @@ import numpy as np
 
 from locustjump.sim import model as lm
 from locustjump.sim.analysis import find_jumps
-from locustjump.sim.engine.job import RolloutResult, StartStates
+from locustjump.sim.engine.job import DEFAULT_ENGINE, RolloutResult, StartStates
 from locustjump.sim.model import CONTROL_DT
 from locustjump.tasks.base import Behaviour, StepReward
-from locustjump.tasks.rules import run_rules
+from locustjump.tasks.rules import RulesRun, run_rules
 
 if TYPE_CHECKING:
     from locustjump.sim.engine.backends import Backend
@@ -82,22 +82,35 @@ class Kick(Behaviour):
     def episode_fitness(self, res: RolloutResult, p: lm.LocustParams) -> np.ndarray:
         return kick_fitness(res["qpos"])
 
+    def reference(
+        self,
+        p: lm.LocustParams,
+        *,
+        backend: Backend | None = None,
+        engine: str = DEFAULT_ENGINE,
+    ) -> RulesRun:
+        """The rule-based jumping over twice the episode (its first jump may
+        land after the kick's episode ends)."""
+        return run_rules(
+            steps=2 * self.n_steps, model_params=p, backend=backend, engine=engine
+        )
+
     def metrics(
         self,
         res: RolloutResult,
         p: lm.LocustParams,
         genome: np.ndarray,
-        *,
-        backend: Backend | None = None,
+        reference: RulesRun | None = None,
     ) -> dict[str, Any]:
         """Apex height/rise/distance, take-off speed/angle, and the rule-based
-        first jump's apex for comparison (paper Fig. 7: about 2x)."""
+        first jump's apex for comparison (paper Fig. 7: about 2x;
+        ``reference``: :meth:`reference`, simulated here if not given)."""
         qpos, obs = res["qpos"][0], res["obs"][0]
         z0, x0 = qpos[0, 2], qpos[0, 0]
         apex = int(np.argmax(qpos[:, 2]))
         t_off, speed, angle = takeoff(qpos, obs[:, 4] < 0, apex)
         jumps = find_jumps(qpos, p)
-        rules = run_rules(steps=2 * self.n_steps, model_params=p, backend=backend)
+        rules = self.reference(p) if reference is None else reference
         first = rules.jumps[0] if rules.jumps else None
         out: dict[str, Any] = {
             "fitness": float(self.fitness(res, p)[0]),

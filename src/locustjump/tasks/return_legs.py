@@ -13,7 +13,7 @@ Fig. 10).
 from __future__ import annotations
 
 import functools
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
@@ -21,9 +21,7 @@ from locustjump.sim import model as lm
 from locustjump.sim import names
 from locustjump.sim.engine.job import RolloutResult, StartStates
 from locustjump.tasks.base import Behaviour, StepReward, settle
-
-if TYPE_CHECKING:
-    from locustjump.sim.engine.backends import Backend
+from locustjump.tasks.rules import RulesRun
 
 
 @functools.lru_cache(maxsize=8)
@@ -65,8 +63,7 @@ class ReturnLegs(Behaviour):
         res: RolloutResult,
         p: lm.LocustParams,
         genome: np.ndarray,
-        *,
-        backend: Backend | None = None,
+        reference: RulesRun | None = None,
     ) -> dict[str, Any]:
         err = np.degrees(joint_errors(res, p)[0])
         return {

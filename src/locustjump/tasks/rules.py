@@ -26,7 +26,7 @@ from locustjump.sim import model as lm
 from locustjump.sim.analysis import find_jumps
 from locustjump.sim.controller import MLP, MLPWeights
 from locustjump.sim.engine.job import StartStates
-from locustjump.sim.engine.rollout import rollout
+from locustjump.sim.engine.rollout import DEFAULT_ENGINE, rollout
 from locustjump.sim.model import CONTROL_DT
 from locustjump.sim.sensors import MAX_DELTA
 
@@ -149,6 +149,14 @@ class RulesRun:
     change_time: float
     unstable: bool
 
+    def head(self, steps: int, p: lm.LocustParams) -> RulesRun:
+        """Its first ``steps`` control steps (the same as a run of ``steps``:
+        episodes do not depend on their length), jumps found again at ``p``."""
+        qpos = self.qpos[: steps + 1]
+        obs, ctrl = self.obs[: steps + 1], self.ctrl[: steps + 1]
+        jumps = find_jumps(qpos, p)
+        return RulesRun(qpos, obs, ctrl, jumps, self.change_time, self.unstable)
+
 
 def run_rules(
     change_time: float = DEFAULT_CHANGE_TIME,
@@ -157,6 +165,7 @@ def run_rules(
     model_params: lm.LocustParams = lm.LocustParams(),
     backend: Backend | None = None,
     label: str = "",
+    engine: str = DEFAULT_ENGINE,
 ) -> RulesRun:
     """Run the rule-based successive jumping from the Fig. 4 start state
     (``backend``: where, :mod:`~.engine.backends`; ``label``: a progress bar
@@ -173,6 +182,7 @@ def run_rules(
         record=("qpos", "obs", "ctrl"),
         backend=backend,
         label=label,
+        engine=engine,
     )
     qpos = res["qpos"][0]
     return RulesRun(

@@ -16,8 +16,9 @@ from locustjump.present.plots import trajectory_figure
 from locustjump.rundir.layout import EVAL, TRAJECTORY_PNG
 from locustjump.sim import model as lm
 from locustjump.sim.analysis import find_jumps
-from locustjump.sim.engine.job import RolloutResult
+from locustjump.sim.engine.job import DEFAULT_ENGINE, RolloutResult
 from locustjump.tasks import Behaviour
+from locustjump.tasks.rules import RulesRun
 
 if TYPE_CHECKING:
     from locustjump.sim.engine.backends import Backend
@@ -30,7 +31,9 @@ class Episodes(NamedTuple):
     behaviour: Behaviour
     res: RolloutResult  # its episodes (one per start state)
     params: lm.LocustParams  # the creature they ran on
-    backend: Backend | None = None  # where to simulate references (the rule)
+    #: the behaviour's rule-based reference (``Behaviour.reference``), simulated
+    #: once for its metrics and its figures
+    reference: RulesRun | None = None
 
 
 @dataclass(frozen=True)
@@ -93,7 +96,7 @@ class Reporter:
 
     def write_figures(self, ep: Episodes, out: Path) -> list[Path]:
         """Figures of one controller's episodes ``ep`` into directory ``out``."""
-        beh, res, p, backend = ep
+        beh, res, p, _ = ep
         path = out / TRAJECTORY_PNG
         qpos = res["qpos"][0]
         trajectory_figure(path, [(beh.name, qpos, find_jumps(qpos, p))])
@@ -107,6 +110,7 @@ class Reporter:
         p: lm.LocustParams,
         *,
         backend: Backend | None = None,
+        engine: str = DEFAULT_ENGINE,
     ) -> dict[str, Any]:
         """Evaluations beyond the episodes, written into run directory ``run``;
         the numbers they give (merged into ``eval/metrics.json``)."""

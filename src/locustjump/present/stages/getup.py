@@ -15,6 +15,7 @@ from locustjump.errors import UserError
 from locustjump.present.plots import getup_figure, sweep_figure
 from locustjump.present.stages.base import Claim, Episodes, Reporter, fmt, yes
 from locustjump.sim import model as lm
+from locustjump.sim.engine.job import DEFAULT_ENGINE
 from locustjump.tasks import Behaviour
 from locustjump.tasks.getup import (
     SUCCESS_UZ,
@@ -46,7 +47,7 @@ class GetUpReporter(Reporter):
 
     def write_figures(self, ep: Episodes, out: Path) -> list[Path]:
         """``getup.png``: the paper's Fig. 9, U_z over time from each state."""
-        beh, res, p, backend = ep
+        beh, res, p, _ = ep
         path = out / FIGURE
         getup_figure(path, up_z(res), beh.rolls, SUCCESS_UZ)
         return [path]
@@ -59,9 +60,10 @@ class GetUpReporter(Reporter):
         p: lm.LocustParams,
         *,
         backend: Backend | None = None,
+        engine: str = DEFAULT_ENGINE,
     ) -> dict[str, Any]:
         """The paper's generalisation test (180 states): ``run/sweep/``."""
-        sw = sweep_getup(genome, p, sweep_angles(), backend=backend)
+        sw = sweep_getup(genome, p, sweep_angles(), backend=backend, engine=engine)
         write_sweep(Path(run), sw)
         return {"sweep_got_up": sw.got_up, "sweep_states": sw.n_sweep}
 
@@ -134,6 +136,7 @@ def sweep_run(
         raise UserError(
             f"{path}: holds a {cfg.behaviour!r} run; sweep-getup needs a getup run"
         )
-    sw = sweep_getup(best.genome, cfg.model, angles, backend=backend)
+    sw = sweep_getup(best.genome, cfg.model, angles, backend=backend,
+                     engine=cfg.engine)  # fmt: skip
     with rundir.locked(path):
         return sw, write_sweep(Path(path), sw)

@@ -10,7 +10,6 @@ from locustjump.present.plots import trajectory_figure
 from locustjump.present.stages.base import Claim, Episodes, Reporter, fmt, yes
 from locustjump.rundir.layout import EVAL
 from locustjump.sim.analysis import find_jumps
-from locustjump.tasks.rules import run_rules
 
 if TYPE_CHECKING:
     pass
@@ -38,9 +37,9 @@ class KickReporter(Reporter):
     def write_figures(self, ep: Episodes, out: Path) -> list[Path]:
         """``kick_vs_rules.png``: the paper's Fig. 7, evolved kick beside the
         rule-based jumping over the same episode length."""
-        beh, res, p, backend = ep
+        beh, res, p, reference = ep
         qpos = res["qpos"][0]
-        rules = run_rules(steps=beh.n_steps, model_params=p, backend=backend)
+        rules = (reference or beh.reference(p)).head(beh.n_steps, p)
         path = out / FIGURE
         trajectory_figure(
             path,

@@ -17,7 +17,6 @@ from locustjump.rundir.layout import EVAL
 from locustjump.sim.analysis import find_jumps
 from locustjump.tasks.composed import SIMPLE, Composed
 from locustjump.tasks.monolithic import Monolithic
-from locustjump.tasks.rules import run_rules
 
 if TYPE_CHECKING:
     pass
@@ -41,9 +40,9 @@ class SuccessiveReporter(Reporter):
     def write_figures(self, ep: Episodes, out: Path) -> list[Path]:
         """``<name>.png``: the paper's Fig. 12, the trajectory over the
         rule-based one and, under it, which simple behaviour was selected."""
-        beh, res, p, backend = ep
+        beh, res, p, reference = ep
         qpos = res["qpos"][0]
-        rules = run_rules(steps=beh.n_steps, model_params=p, backend=backend)
+        rules = (reference or beh.reference(p)).head(beh.n_steps, p)
         selected = res["memory"][0, 1:, 0] if "memory" in res.records else None
         path = out / f"{beh.name}.png"
         composed_figure(

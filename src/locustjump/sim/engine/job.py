@@ -22,6 +22,14 @@ RECORDABLE = ("qpos", "obs", "ctrl", "memory")
 #: the simulation went unstable (MuJoCo resets its data); ``Batch.rollout``
 #: stops stepping a simulation whose warning counters rise, whichever warning.
 UNSTABLE = slice(0, int(mujoco.mjtWarning.mjNWARNING))
+#: How the sensors, networks and actuation are computed between two physics
+#: calls (the engine's strategies): NumPy, or compiled kernels
+#: (:mod:`~locustjump.sim.kernels`). They agree bit for bit but for the
+#: networks' sums and tanh (a few ulp a step, docs/performance.md), so a run
+#: records its engine (``engine`` in ``config.toml``) and is re-simulated on it.
+ENGINES = ("numpy", "numba")
+#: The engine of new runs.
+DEFAULT_ENGINE = "numba"
 
 
 @dataclass(frozen=True)
@@ -74,8 +82,13 @@ class RolloutJob:
     n_steps: int
     record: tuple[str, ...] = ("qpos", "obs")
     label: str = ""  # a progress bar over the control steps when not empty
+    engine: str = DEFAULT_ENGINE  # one of ENGINES
 
     def __post_init__(self) -> None:
+        if self.engine not in ENGINES:
+            raise ValueError(
+                f"engine must be one of {', '.join(ENGINES)}, got {self.engine!r}"
+            )
         if self.n_steps < 1:
             raise ValueError(f"n_steps must be >= 1, got {self.n_steps}")
         if self.params.ndim != 2 or self.params.shape[1] != self.controller.num_params:
@@ -108,6 +121,7 @@ class RolloutJob:
                 self.n_steps,
                 self.record,
                 self.label,
+                self.engine,
             )
             for a, b in zip(bounds[:-1], bounds[1:], strict=True)
             if b > a

@@ -45,11 +45,11 @@ from locustjump.sim.engine.job import (
 
 def run_batch(batch: Batch, job: RolloutJob) -> RolloutResult:
     """Every episode of ``job`` on ``batch``, on the job's engine path
-    (``job.model_params.engine``): the NumPy loop below (the reference) or
+    (``job.engine``): the NumPy loop below (the reference) or
     the compiled one, whose controllers run inside the batch's threads
     (:mod:`locustjump.sim.engine.incallback`; the same numbers as its step-by-step loop,
     :mod:`locustjump.sim.engine.compiled`)."""
-    if job.model_params.engine == "numba":
+    if job.engine == "numba":
         return run_incallback(batch, job)
     m = batch.model
     p = job.model_params

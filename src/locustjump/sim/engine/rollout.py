@@ -15,6 +15,8 @@ from locustjump.sim import model as lm
 from locustjump.sim.controller import Controller
 from locustjump.sim.engine.backends import Backend, ThreadBackend
 from locustjump.sim.engine.job import (
+    DEFAULT_ENGINE,
+    ENGINES,
     RECORDABLE,
     RolloutJob,
     RolloutResult,
@@ -25,6 +27,8 @@ from locustjump.sim.engine.job import (
 from locustjump.sim.resources import require_memory
 
 __all__ = [
+    "DEFAULT_ENGINE",
+    "ENGINES",
     "RECORDABLE",
     "RolloutJob",
     "RolloutResult",
@@ -45,6 +49,7 @@ def rollout(
     record: Sequence[str] = ("qpos", "obs"),
     backend: Backend | None = None,
     label: str = "",
+    engine: str = DEFAULT_ENGINE,
 ) -> RolloutResult:
     """Evaluate every controller from every start state.
 
@@ -59,6 +64,8 @@ def rollout(
         thread backend on every CPU, for this call only.
       label: show a progress bar over the control steps with this label
         (on a terminal).
+      engine: how the controllers are computed between physics calls
+        (``ENGINES``).
 
     Raises:
       UserError: the rollout would not fit in the memory available.
@@ -84,6 +91,7 @@ def rollout(
         int(n_steps),
         tuple(record),
         label,
+        engine,
     )
     if backend is None:
         with ThreadBackend() as own:
