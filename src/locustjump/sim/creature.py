@@ -38,9 +38,9 @@ from locustjump.sim.params import LocustParams
 CLASS = "locust"
 
 #: Every geom of the creature, each of which may touch the world, in the order
-#: of its contact pairs (the geom-id order with rigid struts: the body's own
-#: geoms, then the hind legs'). The solver takes the pairs in this order:
-#: changing it changes every trajectory.
+#: its contact pairs are written. MuJoCo sorts the pairs by body, keeping this
+#: order within a body, and the solver takes the contacts in that order:
+#: changing it may change every trajectory.
 CONTACT_GEOMS: tuple[str, ...] = (
     names.BODY,
     names.HEAD,

@@ -46,8 +46,9 @@ def _fmt(*values: float) -> str:
 
 
 def contact_pairs(scene_geoms: tuple[str, ...]) -> list[tuple[str, str]]:
-    """(scene geom, creature geom) of every contact pair, in the solver's order:
-    each scene geom in turn against every creature geom."""
+    """(scene geom, creature geom) of every contact pair, as written: each scene
+    geom in turn against every creature geom (MuJoCo then sorts them by body,
+    keeping this order within one)."""
     return [(g, c) for g in scene_geoms for c in CONTACT_GEOMS]
 
 

@@ -14,8 +14,10 @@ parameters as fields and a ``mjcf`` method, registered with
 ``@register_scene``; it touches no creature code. Its geoms inherit the
 world's contact model (``contype="0" conaffinity="0"``: only the pairs
 collide); each geom it lists in ``SceneMJCF.geoms`` gets one pair per
-creature geom, so the number of pairs is their product and their order (the
-solver's) is the order of that list.
+creature geom, so the number of pairs is their product. The solver takes the
+contacts in the pairs' order: MuJoCo sorts the pairs by body (a scene's static
+geoms are all the world body's), and within one creature body they follow that
+list, each scene geom against the body's geoms in turn.
 """
 
 from __future__ import annotations
