@@ -80,6 +80,23 @@ def test_cli_model_writes_loadable_mjcf(tmp_path, capsys):
     assert "file exists" in capsys.readouterr().err
 
 
+def test_cli_model_file_is_the_engine_model(tmp_path):
+    """The written MJCF is the whole world: stock MuJoCo loads it into the very
+    model the engine simulates (floor, pairs and keyframe included)."""
+    out = tmp_path / "locust.xml"
+    argv = ["model", "--scale", "3", "--strut-stiffness", "1e-5", "--out", str(out)]
+    assert cli.main(argv) == 0
+    written = mujoco.MjModel.from_xml_path(str(out))
+    engine = lm.load_model(lm.LocustParams(scale=3, strut_stiffness=1e-5))
+    for size in ("nbody", "ngeom", "npair", "njnt", "nu", "nsensor", "nkey", "nq"):
+        assert getattr(written, size) == getattr(engine, size), size
+    assert written.npair > 0 and written.nkey == 1
+    for name in dir(engine):
+        value = getattr(engine, name)
+        if isinstance(value, np.ndarray):
+            np.testing.assert_array_equal(getattr(written, name), value, err_msg=name)
+
+
 def test_cli_rules_writes_csv_and_figure(tmp_path, capsys):
     out = tmp_path / "rules"
     assert cli.main(["rules", "--steps", "400", "--out", str(out)]) == 0
