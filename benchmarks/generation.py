@@ -130,7 +130,7 @@ def measure(
         ga = make_optimizer(cfg.optimizer, beh.controller.num_params, cfg.seed)
         ga.load_state(rundir.read_checkpoint(
             out / rundir.CHECKPOINT,
-            cfg.replace(simple=_digest(simple) if beh.requires else ""),
+            cfg.replace(frozen_digest=_digest(simple) if beh.requires else ""),
             beh.controller.num_params)[2])  # fmt: skip
         for g in range(warmup + 1, warmup + generations + 1):
             # one generation of the run (resumed: same backend, so the same

@@ -75,7 +75,7 @@ def mujoco_timers(steps: int = 3000) -> None:
     import mujoco
 
     from locustjump.sim import model as lm
-    from locustjump.tasks.rules import run_rules
+    from locustjump.tasks.reference import run_rules
 
     p = lm.LocustParams()
     m = lm.load_model(p)

@@ -66,7 +66,7 @@ def main(argv: list[str] | None = None) -> int:
             print(f"| {run.as_posix()} | {cells} | {f[2] / f[0]:.2f} |")
     if args.rule:
         from locustjump.sim import model as lm
-        from locustjump.tasks.rules import run_rules
+        from locustjump.tasks.reference import run_rules
 
         z = []
         for n in SUBSTEPS:

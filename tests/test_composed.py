@@ -125,7 +125,7 @@ def test_composed_run_keeps_its_frozen_genomes(simple_runs, tmp_path):
     out = tmp_path / "c"
     train(cfg.replace(generations=1), out, progress=False, frozen=simple)
     stored = rundir.load_config(out / rundir.CONFIG)
-    assert stored.simple == simple.digest
+    assert stored.frozen_digest == simple.digest
     np.testing.assert_array_equal(
         rundir.FrozenGenomes.load(out / rundir.FROZEN, SIMPLE_BEHAVIOURS, 144).genomes,
         simple.genomes,

@@ -6,8 +6,6 @@ and the same control flow (blow-ups, frozen records) on both paths."""
 import numpy as np
 import pytest
 
-from locustjump.errors import UserError
-from locustjump.rundir.config import TrainConfig
 from locustjump.sim import kernels, sensors
 from locustjump.sim.controller import MLP
 from locustjump.sim.engine.backends import ThreadBackend
@@ -121,35 +119,3 @@ def test_blowups_are_handled_alike_on_both_paths(params, mjmodel, blowups):
         np.testing.assert_array_equal(a[k], b[k], err_msg=k)
     np.testing.assert_array_equal(a.steps, b.steps)
     assert a.control_steps == b.control_steps
-
-
-#: config hashes of runs made before the engine was the run's (shipped runs
-#: hold such configs): the default config, with ``engine`` under ``[model]``
-#: as "numba", and with none (made before the compiled engine)
-_HASH_MODEL_ENGINE_NUMBA = "1c1e0a431ebc3af3"  # e4febb0: TrainConfig().hash()
-_HASH_NO_ENGINE = "732d98bacb9a8b94"
-
-
-def test_runs_record_their_engine_and_old_configs_keep_their_hash(tmp_path):
-    from locustjump import rundir
-
-    new = TrainConfig()
-    assert new.engine == "numba" and new.to_dict()["engine"] == "numba"
-    assert "engine" not in new.to_dict()["model"]
-    old = new.replace(engine="numpy")
-    assert (new.hash(), old.hash()) == (_HASH_MODEL_ENGINE_NUMBA, _HASH_NO_ENGINE)
-    for engine, table in (("numba", {"engine": "numba"}), ("numpy", {})):
-        d = new.to_dict()
-        del d["engine"]
-        d["model"].update(table)  # as written before the engine was the run's
-        rundir.write_toml(tmp_path / "config.toml", d)
-        read = rundir.load_config(tmp_path / "config.toml")
-        assert (
-            read.engine == engine and read.hash() == new.replace(engine=engine).hash()
-        )
-        assert "engine" not in read.to_dict()["model"]
-    d = new.to_dict()
-    d["model"]["engine"] = "numba"
-    rundir.write_toml(tmp_path / "config.toml", d)
-    with pytest.raises(UserError, match="not two"):
-        rundir.load_config(tmp_path / "config.toml")

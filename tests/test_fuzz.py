@@ -130,7 +130,8 @@ SCALARS = st.one_of(
     st.booleans(),
 )
 KEYS = st.sampled_from(
-    ["behaviour", "seed", "generations", "simple", "optimizer", "rcga", "model",
+    ["behaviour", "seed", "generations", "simple", "frozen_digest", "engine",
+     "format", "optimizer", "rcga", "model",
      "kind", "population", "elite", "crossover", "sigma0", "init_scale", "scale",
      "density", "femur_length", "substeps", "solref", "integrator", "hip_range",
      "mutation_rate", "nope"]

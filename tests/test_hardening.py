@@ -239,3 +239,28 @@ def test_a_read_only_filesystem_is_one_line(tmp_path, capsys, shipped):
             err = capsys.readouterr().err
             assert "Read-only file system" in err and len(err.splitlines()) == 1
             assert str(ro) in err
+
+
+def test_mujoco_warnings_go_to_the_log_not_into_the_working_directory(
+    tmp_path, monkeypatch, caplog
+):
+    """An episode that blows up makes MuJoCo warn; the warning is logged
+    (``locustjump.mujoco``, INFO), not printed into MUJOCO_LOG.TXT here."""
+    import logging
+
+    import numpy as np
+
+    from locustjump.sim import model as lm
+    from locustjump.sim.engine.rollout import StartStates, rollout
+    from locustjump.tasks.rules import RuleController
+
+    monkeypatch.chdir(tmp_path)
+    rc = RuleController.for_model(lm.LocustParams())
+    starts = StartStates.ready(lm.load_model()).take([0, 0])
+    starts.qvel[1] = 1e30
+    with caplog.at_level(logging.INFO, logger="locustjump.mujoco"):
+        res = rollout(rc, rc.params_for(0.5), starts, 5)
+    assert res.unstable.tolist() == [False, True]
+    assert any("unstable" in r.getMessage() for r in caplog.records)
+    assert not (tmp_path / "MUJOCO_LOG.TXT").exists()
+    assert np.isfinite(res["qpos"]).all()

@@ -59,7 +59,8 @@ def test_an_upward_import_breaks_the_layers(tmp_path, module, line):
 
 
 def test_an_import_cycle_breaks_the_acyclic_contract(tmp_path):
-    # tasks.kick imports tasks.rules; rules importing kick closes a cycle
+    # tasks.kick imports tasks.reference, which imports tasks.rules; rules
+    # importing kick closes a cycle
     r = _lint(tmp_path, ("tasks/rules.py", "from locustjump.tasks import kick"))
     assert r.returncode == 1
     assert "no import cycle between the modules of any package BROKEN" in r.stdout
@@ -76,3 +77,20 @@ def test_old_module_paths_forward_to_the_new_modules():
     assert kick is locustjump.tasks.kick
     assert reproduce is locustjump.runs.reproduce.reproduce
     assert any("moved to locustjump.runs.reproduce" in str(w.message) for w in caught)
+
+
+def test_an_old_module_split_in_two_forwards_the_names_of_both():
+    import locustjump.tasks.reference
+    import locustjump.tasks.rules
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        from locustjump.rules import RuleController, RuleGetupController, run_rules
+    assert RuleController is locustjump.tasks.rules.RuleController
+    assert RuleGetupController is locustjump.tasks.rules.RuleGetupController
+    assert run_rules is locustjump.tasks.reference.run_rules
+    assert any(
+        "moved to locustjump.tasks.rules and locustjump.tasks.reference"
+        in str(w.message)
+        for w in caught
+    )

@@ -105,7 +105,7 @@ def test_gate4_convergence_fixed_controller_3000_steps(params):
     not (a chaotic event: 11 jumps at 3 substeps, 10 at 12), so the gate compares
     the first three jumps: apex height and distance at the apex.
     """
-    from locustjump.tasks.rules import run_rules
+    from locustjump.tasks.reference import run_rules
 
     coarse = run_rules(steps=3000, model_params=params)
     fine = run_rules(

@@ -53,7 +53,8 @@ from locustjump.tasks import (
     get_behaviour,
     register_behaviour,
 )
-from locustjump.tasks.rules import RuleController, run_rules
+from locustjump.tasks.reference import run_rules
+from locustjump.tasks.rules import RuleController
 from locustjump.version import __version__
 
 moved.install()  # the module paths of 0.1 (locustjump.reproduce, ...)

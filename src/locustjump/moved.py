@@ -3,7 +3,8 @@
 Before the layer packages (docs/architecture.md) every module sat in
 ``locustjump/``; ``from locustjump.reproduce import reproduce`` and the like
 still work, with a ``DeprecationWarning`` naming the new path. The module is
-the new one itself (not a copy), so its state is shared.
+the new one itself (not a copy), so its state is shared; an old module whose
+ideas went to several new ones is a module holding the public names of each.
 """
 
 from __future__ import annotations
@@ -15,9 +16,9 @@ import sys
 import types
 import warnings
 
-#: old module path -> new module path
-MOVED: dict[str, str] = {
-    f"locustjump.{old}": f"locustjump.{new}"
+#: old module path -> new module path(s)
+MOVED: dict[str, tuple[str, ...]] = {
+    f"locustjump.{old}": tuple(f"locustjump.{n}" for n in new.split("+"))
     for old, new in {
         "names": "sim.names",
         "params": "sim.params",
@@ -47,7 +48,7 @@ MOVED: dict[str, str] = {
         "behaviours.composed": "tasks.composed",
         "behaviours.monolithic": "tasks.monolithic",
         "behaviours.ceiling": "tasks.ceiling",
-        "rules": "tasks.rules",
+        "rules": "tasks.rules+tasks.reference",
         "config": "rundir.config",
         "plots": "present.plots",
         "results": "present.results",
@@ -73,11 +74,19 @@ class MovedFinder(importlib.abc.MetaPathFinder, importlib.abc.Loader):
     def create_module(self, spec: importlib.machinery.ModuleSpec) -> types.ModuleType:
         new = MOVED[spec.name]
         warnings.warn(
-            f"{spec.name} moved to {new}; the old path will be removed",
+            f"{spec.name} moved to {' and '.join(new)}; the old path will be removed",
             DeprecationWarning,
             stacklevel=2,
         )
-        return importlib.import_module(new)
+        if len(new) == 1:
+            return importlib.import_module(new[0])
+        merged = types.ModuleType(spec.name, f"Forwards to {', '.join(new)}.")
+        for name in new:
+            module = importlib.import_module(name)
+            merged.__dict__.update(
+                (k, v) for k, v in vars(module).items() if not k.startswith("_")
+            )
+        return merged
 
     def exec_module(self, module: types.ModuleType) -> None:
         pass  # the new module is already executed

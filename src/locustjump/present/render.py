@@ -31,6 +31,7 @@ from tqdm import tqdm
 from locustjump import rundir
 from locustjump.errors import UserError
 from locustjump.rundir.config import from_table
+from locustjump.rundir.migrations import rules_summary
 from locustjump.sim import model as lm
 from locustjump.sim import names
 from locustjump.sim.controller import Controller
@@ -85,13 +86,11 @@ def _rules_run(path: Path) -> tuple[float, int, lm.LocustParams, str] | None:
     if not rundir.is_rules_run(path):
         return None
     f = path / rundir.RULES_SUMMARY
-    summary = rundir.read_json(f)
+    summary = rules_summary(rundir.read_json(f), DEFAULT_ENGINE)
     try:
-        model = dict(summary.get("model", {}))
-        engine = summary.get("engine", model.pop("engine", DEFAULT_ENGINE))
-        p = from_table(lm.LocustParams, model, "model", str(f))
+        p = from_table(lm.LocustParams, summary["model"], "model", str(f))
         steps = int(summary.get("steps", 3000))
-        return float(summary["change_time_s"]), steps, p, str(engine)
+        return float(summary["change_time_s"]), steps, p, str(summary["engine"])
     except (KeyError, TypeError, ValueError) as e:
         raise UserError(f"{f}: not a rule-based run summary ({e})") from None
 

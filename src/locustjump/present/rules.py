@@ -13,7 +13,8 @@ from locustjump import rundir
 from locustjump.present.plots import trajectory_figure
 from locustjump.sim import model as lm
 from locustjump.sim.engine.job import DEFAULT_ENGINE
-from locustjump.tasks.rules import DEFAULT_CHANGE_TIME, RulesRun, run_rules
+from locustjump.tasks.reference import RulesRun, run_rules
+from locustjump.tasks.rules import DEFAULT_CHANGE_TIME
 
 if TYPE_CHECKING:
     from locustjump.sim.engine.backends import Backend

@@ -7,7 +7,8 @@ A **run** (``locustjump train``)::
     DIR/checkpoint.npz   the optimizer's state after the last generation
     DIR/best.npz         the best genome so far
     DIR/fitness.png      best and mean fitness per generation
-    DIR/simple.npz       behaviours built on frozen runs (composed): their genomes
+    DIR/frozen.npz       behaviours built on frozen runs (composed): their genomes
+                         (``simple.npz`` in runs made before config format 2)
     DIR/eval/            ``locustjump evaluate``: trajectories, figures, metrics.json
     DIR/sweep/           extra evaluations a behaviour declares (getup's sweep)
     DIR/video.mp4        ``locustjump render``

@@ -6,6 +6,7 @@
     seed = 0
     generations = 1000
     engine = "numba"     # how the controllers are computed (sim.engine.ENGINES)
+    format = 2           # of this file (locustjump.rundir.migrations)
 
     [optimizer]          # kind + that optimizer's settings (locustjump.evo)
     kind = "rcga"
@@ -14,12 +15,9 @@
     [model]              # LocustParams: the creature and its physics
     scale = 1.0
 
-Runs made before optimizers were pluggable hold an ``[rcga]`` table instead of
-``[optimizer]``; it is read as ``kind = "rcga"`` and hashes the same, so they
-stay valid. Runs made before the engine was the run's hold it as
-``model.engine``, and runs made before the compiled engine hold none ("numpy");
-both are read as ``engine`` and hash the same. Files are read and written by
-:mod:`locustjump.rundir`.
+Older spellings (``[rcga]``, ``model.engine``, ``simple``) are read by
+:mod:`locustjump.rundir.migrations` and hash as they did, so older runs stay
+valid. Files are read and written by :mod:`locustjump.rundir`.
 """
 
 from __future__ import annotations
@@ -32,18 +30,11 @@ from typing import Any
 
 from locustjump.errors import UserError
 from locustjump.evo import RCGAParams, params_class
+from locustjump.rundir.migrations import CONFIG_FORMAT, hashed_config, migrate_config
 from locustjump.sim import model as lm
 from locustjump.sim.engine.job import DEFAULT_ENGINE, ENGINES
 from locustjump.tasks import behaviour_class, behaviour_names
 from locustjump.tasks.base import CommonOptions
-
-#: LocustParams fields newer than the shipped runs: in the config hash only
-#: when not at their default (the default is the creature those runs used)
-_LATER_MODEL_FIELDS = ("strut_stiffness", "strut_damping", "strut_swing")
-#: the engine of a run whose config holds none (made before the compiled
-#: engine): in the hash only when it is another one, under ``model.engine``
-#: where it was hashed before it was the run's
-_ENGINE_BEFORE = "numpy"
 
 
 @dataclass(frozen=True)
@@ -61,7 +52,7 @@ class TrainConfig:
     #: recorded, since the engines differ by a few ulp a step
     engine: str = DEFAULT_ENGINE
     #: behaviours built on frozen runs (composed): digest of their genomes
-    simple: str = ""
+    frozen_digest: str = ""
     #: the behaviour's settings beyond the paper (its ``Options``; default: its
     #: defaults, the paper's)
     options: Any = None
@@ -100,6 +91,7 @@ class TrainConfig:
     def to_dict(self) -> dict[str, Any]:
         """As written to ``config.toml``."""
         d = {
+            "format": CONFIG_FORMAT,
             "behaviour": self.behaviour,
             "seed": self.seed,
             "generations": self.generations,
@@ -107,66 +99,42 @@ class TrainConfig:
             "optimizer": {"kind": self.optimizer.kind, **_table(self.optimizer)},
             "model": _table(self.model),
         }
-        if self.simple:
-            d["simple"] = self.simple
+        if self.frozen_digest:
+            d["frozen_digest"] = self.frozen_digest
         if dataclasses.fields(self.options):
             d["options"] = _table(self.options)
         return d
 
     def hash(self) -> str:
         """Identity of the experiment: everything but ``generations`` (a run may
-        be extended), as 16 hex digits. The RCGA's settings hash under the key
-        ``rcga`` and model fields and options added after runs were shipped
-        count only when changed, so runs made before keep their hash."""
+        be extended), as 16 hex digits, of the table as format 1 spelled it
+        (:func:`~locustjump.rundir.migrations.hashed_config`), so that runs
+        made before keep their hash."""
         d = self.to_dict()
-        del d["generations"]
-        engine = d.pop("engine")
-        if engine != _ENGINE_BEFORE:  # where it was hashed when in LocustParams
-            d["model"]["engine"] = engine
-        opt = d.pop("optimizer")
-        if opt.pop("kind") == "rcga":
-            d["rcga"] = opt
-        else:
-            d["optimizer"] = {"kind": self.optimizer.kind, **opt}
-        default = lm.LocustParams()
-        for name in _LATER_MODEL_FIELDS:
-            if d["model"][name] == getattr(default, name):
-                del d["model"][name]
-        if self.options == type(self.options)():  # runs made before options
-            d.pop("options", None)
-        elif "options" in d:  # options added later count only when changed
-            common = _table(CommonOptions())
-            for name, value in common.items():
-                if d["options"][name] == value:
-                    del d["options"][name]
+        del d["generations"], d["format"]
+        d = hashed_config(
+            d,
+            _table(lm.LocustParams()),
+            _table(CommonOptions()),
+            self.options == type(self.options)(),
+        )
         text = json.dumps(d, sort_keys=True)
         return hashlib.sha256(text.encode()).hexdigest()[:16]
 
     @classmethod
     def from_dict(cls, d: dict[str, Any], source: str) -> TrainConfig:
         """Checked conversion; a ``UserError`` names ``source`` and the key."""
-        top = {"behaviour": "kick", "seed": 0, "generations": 1000, "simple": "",
-               "engine": DEFAULT_ENGINE}  # fmt: skip
+        top = {"behaviour": "kick", "seed": 0, "generations": 1000,
+               "frozen_digest": "", "engine": DEFAULT_ENGINE}  # fmt: skip
         kwargs: dict[str, Any] = {}
         options = None
-        if "rcga" in d and "optimizer" in d:
-            raise UserError(f"{source}: give [optimizer] or the older [rcga], not both")
-        model = d.get("model")
-        if "engine" in d and isinstance(model, dict) and "engine" in model:
-            raise UserError(f"{source}: give engine or the older model.engine, not two")
-        for key, value in d.items():
+        for key, value in migrate_config(d, source).items():
             if key in top:
                 kwargs[key] = coerce(value, top[key], key, source)
-            elif key == "rcga":
-                kwargs["optimizer"] = from_table(RCGAParams, value, key, source)
             elif key == "optimizer":
-                kwargs["optimizer"] = optimizer_from_table(value, source)
+                section = "rcga" if "rcga" in d else key  # as the file names it
+                kwargs["optimizer"] = optimizer_from_table(value, source, section)
             elif key == "model":
-                if isinstance(value, dict):  # the engine was once the creature's
-                    value = dict(value)
-                    older = value.pop("engine", _ENGINE_BEFORE)
-                    if "engine" not in d:
-                        kwargs["engine"] = coerce(older, "", "model.engine", source)
                 kwargs[key] = from_table(lm.LocustParams, value, key, source)
             elif key == "options":
                 options = value
@@ -193,10 +161,11 @@ def _table(obj: Any) -> dict[str, Any]:
     }
 
 
-def optimizer_from_table(table: Any, source: str) -> Any:
-    """An ``[optimizer]`` table (``kind`` + settings) as that optimizer's settings."""
+def optimizer_from_table(table: Any, source: str, section: str = "optimizer") -> Any:
+    """An ``[optimizer]`` table (``kind`` + settings) as that optimizer's
+    settings (``section``: its name in the file, for the errors)."""
     if not isinstance(table, dict):
-        raise UserError(f"{source}: optimizer must be a table")
+        raise UserError(f"{source}: {section} must be a table")
     table = dict(table)
     kind = table.pop("kind", "rcga")
     if not isinstance(kind, str):
@@ -205,7 +174,7 @@ def optimizer_from_table(table: Any, source: str) -> Any:
         cls = params_class(kind)
     except ValueError as e:
         raise UserError(f"{source}: optimizer.kind: {e}") from None
-    return from_table(cls, table, "optimizer", source)
+    return from_table(cls, table, section, source)
 
 
 def coerce(value: Any, default: Any, key: str, source: str) -> Any:

@@ -24,11 +24,11 @@ from locustjump.rundir.layout import (
     BEST,
     CONFIG,
     FORMAT,
-    FROZEN,
     METRICS,
     METRICS_COLUMNS,
     is_run,
 )
+from locustjump.rundir.migrations import frozen_path
 from locustjump.tasks import behaviour_class, get_behaviour
 
 # --- config ---------------------------------------------------------------------
@@ -210,16 +210,17 @@ class FrozenGenomes:
 
 def behaviour_of(cfg, out: Path):
     """The behaviour of the run in ``out``; one built on frozen runs reads
-    their genomes from ``simple.npz`` and checks them against the config."""
+    their genomes (``frozen.npz``) and checks them against the config."""
 
     cls = behaviour_class(cfg.behaviour)
     if not cls.requires:
         return get_behaviour(cfg.behaviour, None, cfg.options)
-    frozen = FrozenGenomes.load(out / FROZEN, cls.requires, cls.frozen_num_params())
-    if frozen.digest != cfg.simple:
+    path = frozen_path(out)
+    frozen = FrozenGenomes.load(path, cls.requires, cls.frozen_num_params())
+    if frozen.digest != cfg.frozen_digest:
         raise UserError(
-            f"{out / FROZEN}: its genomes (digest {frozen.digest}) are not the ones "
-            f"{out / CONFIG} names ({cfg.simple or 'none'})"
+            f"{path}: its genomes (digest {frozen.digest}) are not the ones "
+            f"{out / CONFIG} names ({cfg.frozen_digest or 'none'})"
         )
     return get_behaviour(cfg.behaviour, frozen.genomes, cfg.options)
 

@@ -33,6 +33,7 @@ from locustjump.present.results import results_markdown
 from locustjump.present.rules import write_rules_run
 from locustjump.present.stages import reporter_of
 from locustjump.rundir.config import TrainConfig
+from locustjump.rundir.migrations import reproduction_marker
 from locustjump.runs.trainer import train
 from locustjump.sim import model as lm
 from locustjump.sim.engine.backends import ThreadBackend
@@ -82,17 +83,13 @@ BUDGETS: dict[str, Budget] = {
 }
 
 
-#: what a marker written before these keys existed means by their absence
-_BEFORE = {"optimizer": "rcga", "engine": "numpy"}
-
-
 def _check_dir(out: Path, want: dict[str, Any]) -> None:
     """A new reproduction needs an absent or empty directory; an existing one
     must have been started with the same budget, seed and optimizer."""
     if out.exists() and not out.is_dir():
         raise UserError(f"--out {out}: exists and is not a directory")
     if rundir.is_reproduction(out):
-        have = {**_BEFORE, **rundir.read_toml(out / rundir.MARKER)}
+        have = reproduction_marker(rundir.read_toml(out / rundir.MARKER))
         for k, v in want.items():
             if have.get(k) != v:
                 raise UserError(
@@ -217,7 +214,7 @@ def start_reproduction(
     :data:`~locustjump.sim.engine.job.DEFAULT_ENGINE`)."""
     check_reproduction(out, b, seed, optimizer, engine)
     if rundir.is_reproduction(out):
-        return {**_BEFORE, **rundir.read_toml(out / rundir.MARKER)}["engine"]
+        return reproduction_marker(rundir.read_toml(out / rundir.MARKER))["engine"]
     engine = engine or DEFAULT_ENGINE
     rundir.write_toml(
         out / rundir.MARKER,

@@ -112,12 +112,12 @@ def train(
     out = Path(out)
     cls = behaviour_class(cfg.behaviour)
     if cls.requires and frozen is not None:
-        if cfg.simple not in ("", frozen.digest):
+        if cfg.frozen_digest not in ("", frozen.digest):
             raise UserError(
                 f"the frozen genomes (digest {frozen.digest}) are not the ones the "
-                f"configuration names ({cfg.simple})"
+                f"configuration names ({cfg.frozen_digest})"
             )
-        cfg = cfg.replace(simple=frozen.digest)
+        cfg = cfg.replace(frozen_digest=frozen.digest)
     if backend is None:
         backend = ThreadBackend()
     if resume:
@@ -186,8 +186,8 @@ def _resume(out: Path, cfg: TrainConfig, builds_on: bool) -> _Run:
     """Check that ``cfg`` continues the run in ``out``, restore it, and only
     then record a changed budget."""
     stored = rundir.load_config(out / rundir.CONFIG)
-    if builds_on and not cfg.simple:
-        cfg = cfg.replace(simple=stored.simple)
+    if builds_on and not cfg.frozen_digest:
+        cfg = cfg.replace(frozen_digest=stored.frozen_digest)
     if stored.behaviour != cfg.behaviour:
         raise UserError(
             f"--resume: {out} holds a {stored.behaviour!r} run, not {cfg.behaviour!r}"

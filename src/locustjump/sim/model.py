@@ -15,6 +15,7 @@ defaults were chosen.
 from __future__ import annotations
 
 import copy
+import logging
 from dataclasses import dataclass, field
 from functools import lru_cache
 
@@ -34,6 +35,14 @@ from locustjump.sim.params import (  # noqa: F401 (re-exported)
     LocustParams,
 )
 from locustjump.sim.scene import Flat, Scene
+
+#: MuJoCo's warnings (an unstable simulation: the engine stops that episode
+#: and flags it, ``RolloutResult.unstable``), at INFO instead of MuJoCo's
+#: default of printing them and appending them to ``MUJOCO_LOG.TXT`` in the
+#: working directory, which no command may write into
+MUJOCO_LOG = logging.getLogger("locustjump.mujoco")
+if mujoco.get_mju_user_warning() is None:  # a handler of the user's stays
+    mujoco.set_mju_user_warning(lambda msg: MUJOCO_LOG.info("MuJoCo: %s", msg))
 
 SETTLE_TIME = 1.0  # (Seconds) settling before t = 0
 READY_KEY = names.READY_KEY  # keyframe of the settled start state (Fig. 4)

@@ -21,7 +21,7 @@ from locustjump.sim.engine.rollout import (
     StartStates,
     rollout,
 )
-from locustjump.tasks.rules import RulesRun
+from locustjump.tasks.reference import RulesRun
 
 if TYPE_CHECKING:
     from locustjump.sim.engine.backends import Backend

@@ -31,7 +31,7 @@ from locustjump.sim.engine.job import DEFAULT_ENGINE, RolloutResult, StartStates
 from locustjump.sim.kernels import soa
 from locustjump.tasks.base import Behaviour, CommonOptions, StepReward
 from locustjump.tasks.getup import SUCCESS_UZ, rolled_starts
-from locustjump.tasks.rules import RulesRun, run_rules
+from locustjump.tasks.reference import RulesRun, run_rules
 
 if TYPE_CHECKING:
     from locustjump.sim.engine.backends import Backend

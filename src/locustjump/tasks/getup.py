@@ -31,7 +31,7 @@ from locustjump.sim.engine.rollout import rollout
 from locustjump.sim.model import CONTROL_DT
 from locustjump.sim.resources import require_memory
 from locustjump.tasks.base import Behaviour, StepReward, settle
-from locustjump.tasks.rules import RulesRun
+from locustjump.tasks.reference import RulesRun
 
 if TYPE_CHECKING:
     from locustjump.sim.engine.backends import Backend

@@ -21,7 +21,7 @@ from locustjump.sim.analysis import find_jumps
 from locustjump.sim.engine.job import DEFAULT_ENGINE, RolloutResult, StartStates
 from locustjump.sim.model import CONTROL_DT
 from locustjump.tasks.base import Behaviour, StepReward
-from locustjump.tasks.rules import RulesRun, run_rules
+from locustjump.tasks.reference import RulesRun, run_rules
 
 if TYPE_CHECKING:
     from locustjump.sim.engine.backends import Backend

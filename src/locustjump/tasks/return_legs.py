@@ -21,7 +21,7 @@ from locustjump.sim import model as lm
 from locustjump.sim import names
 from locustjump.sim.engine.job import RolloutResult, StartStates
 from locustjump.tasks.base import Behaviour, StepReward, settle
-from locustjump.tasks.rules import RulesRun
+from locustjump.tasks.reference import RulesRun
 
 
 @functools.lru_cache(maxsize=8)

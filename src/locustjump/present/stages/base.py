@@ -18,7 +18,7 @@ from locustjump.sim import model as lm
 from locustjump.sim.analysis import find_jumps
 from locustjump.sim.engine.job import DEFAULT_ENGINE, RolloutResult
 from locustjump.tasks import Behaviour
-from locustjump.tasks.rules import RulesRun
+from locustjump.tasks.reference import RulesRun
 
 if TYPE_CHECKING:
     from locustjump.sim.engine.backends import Backend

@@ -1,0 +1,151 @@
+"""Every reader of an older file format, in one place.
+
+Each file that has changed records its format version; a reader checks it
+(a newer one than this locustjump reads is refused with a one-line error)
+and hands an older one to the migration here, which returns it in today's
+form. Nothing on disk is rewritten: a run made by an older version stays as
+it was and replays on the path it was made with.
+
+``config.toml`` (:data:`CONFIG_FORMAT`; a file without ``format`` is version 1,
+which every run made before 2026-11 holds, and any partial ``--config`` file):
+
+* ``[rcga]`` instead of ``[optimizer]`` (before optimizers were pluggable):
+  ``kind = "rcga"``;
+* ``model.engine`` (before the engine was the run's): the run's ``engine``;
+  no engine at all beside a ``[model]`` table (before the compiled engine):
+  ``"numpy"``;
+* ``simple`` (the digest of the frozen genomes): ``frozen_digest``.
+
+The config hash is the identity of an experiment, so it is computed on the
+table as version 1 spelled it (:func:`hashed_config`): every run keeps its
+hash whatever version reads it.
+
+``reproduce.toml``: keys added later take the value their absence meant
+(:func:`reproduction_marker`). ``summary.json`` of a rule-based run: the
+engine under ``model`` as above (:func:`rules_summary`). The frozen genomes
+of a composed run: ``simple.npz`` before version 2 (:func:`frozen_path`).
+"""
+
+from __future__ import annotations
+
+import copy
+from pathlib import Path
+from typing import Any
+
+from locustjump.errors import UserError
+from locustjump.rundir.layout import FROZEN
+
+#: version of ``config.toml`` this locustjump writes
+CONFIG_FORMAT = 2
+#: what the frozen genomes' file was called before config format 2
+FROZEN_BEFORE = "simple.npz"
+#: the engine of a run whose config names none (made before the compiled one)
+ENGINE_BEFORE = "numpy"
+#: ``reproduce.toml`` keys added later, and what their absence means
+MARKER_BEFORE = {"optimizer": "rcga", "engine": ENGINE_BEFORE}
+#: ``[model]`` fields added after runs were shipped: in the hash only when not
+#: at their default (the creature those runs used)
+MODEL_FIELDS_LATER = ("strut_stiffness", "strut_damping", "strut_swing")
+
+
+def config_format(d: dict[str, Any], source: str) -> int:
+    """The format version of a ``config.toml`` table (``UserError`` if it is
+    not one this locustjump reads)."""
+    v = d.get("format", 1)
+    if not isinstance(v, int) or isinstance(v, bool) or v < 1:
+        raise UserError(f"{source}: format must be an integer >= 1, got {v!r}")
+    if v > CONFIG_FORMAT:
+        raise UserError(
+            f"{source}: written by a newer locustjump (config format {v}; this "
+            f"one reads up to {CONFIG_FORMAT}); upgrade locustjump"
+        )
+    return v
+
+
+def migrate_config(d: dict[str, Any], source: str) -> dict[str, Any]:
+    """A ``config.toml`` table in today's spelling (without ``format``)."""
+    version = config_format(d, source)
+    d = copy.deepcopy({k: v for k, v in d.items() if k != "format"})
+    if version >= 2:
+        return d
+    if "rcga" in d:
+        if "optimizer" in d:
+            raise UserError(f"{source}: give [optimizer] or the older [rcga], not both")
+        rcga = d.pop("rcga")
+        d["optimizer"] = {"kind": "rcga", **rcga} if isinstance(rcga, dict) else rcga
+    model = d.get("model")
+    if isinstance(model, dict):
+        if "engine" in model:
+            if "engine" in d:
+                raise UserError(
+                    f"{source}: give engine or the older model.engine, not two"
+                )
+            d["engine"] = model.pop("engine")
+        else:
+            d.setdefault("engine", ENGINE_BEFORE)
+    if "simple" in d:
+        if "frozen_digest" in d:
+            raise UserError(
+                f"{source}: give frozen_digest or the older simple, not both"
+            )
+        d["frozen_digest"] = d.pop("simple")
+    return d
+
+
+def hashed_config(
+    d: dict[str, Any],
+    model_defaults: dict[str, Any],
+    common_defaults: dict[str, Any],
+    options_default: bool,
+) -> dict[str, Any]:
+    """The table whose hash is a run's identity: today's ``config.toml``
+    table ``d`` (without ``generations``) as format 1 spelled it.
+    ``model_defaults``: the default ``[model]`` table; ``common_defaults``:
+    the default options every behaviour takes (added after runs were
+    shipped, so in the hash only when changed); ``options_default``: whether
+    the behaviour's options are all at their defaults."""
+    d = copy.deepcopy(d)
+    engine = d.pop("engine")
+    if engine != ENGINE_BEFORE:  # where it was hashed when it was the creature's
+        d["model"]["engine"] = engine
+    opt = d.pop("optimizer")
+    if opt["kind"] == "rcga":
+        d["rcga"] = {k: v for k, v in opt.items() if k != "kind"}
+    else:
+        d["optimizer"] = opt
+    for name in MODEL_FIELDS_LATER:
+        if d["model"][name] == model_defaults[name]:
+            del d["model"][name]
+    if "frozen_digest" in d:
+        d["simple"] = d.pop("frozen_digest")
+    if options_default:  # runs made before options
+        d.pop("options", None)
+    elif "options" in d:  # options added later count only when changed
+        for name, value in common_defaults.items():
+            if d["options"][name] == value:
+                del d["options"][name]
+    return d
+
+
+def reproduction_marker(table: dict[str, Any]) -> dict[str, Any]:
+    """A ``reproduce.toml`` table with the keys added later filled in."""
+    return {**MARKER_BEFORE, **table}
+
+
+def rules_summary(summary: dict[str, Any], default_engine: str) -> dict[str, Any]:
+    """A rule-based run's ``summary.json`` with ``engine`` beside ``model``
+    (summaries written before the creature was recorded: the default one, on
+    ``default_engine``)."""
+    summary = copy.deepcopy(summary)
+    model = summary.setdefault("model", {})
+    if isinstance(model, dict) and "engine" in model:
+        summary.setdefault("engine", model.pop("engine"))
+    summary.setdefault("engine", default_engine)
+    return summary
+
+
+def frozen_path(run: Path) -> Path:
+    """The frozen genomes' file of run directory ``run``, under the name it
+    was written with."""
+    new, old = Path(run) / FROZEN, Path(run) / FROZEN_BEFORE
+    return old if not new.exists() and old.exists() else new

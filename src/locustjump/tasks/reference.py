@@ -1,0 +1,77 @@
+"""The rule-based reference episode: the paper's rule-based successive
+jumping (:mod:`locustjump.tasks.rules`) simulated from the Fig. 4 start state,
+what the kick and the composed behaviour compare with
+(``Behaviour.reference``)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from locustjump.sim import model as lm
+from locustjump.sim.analysis import find_jumps
+from locustjump.sim.engine.job import StartStates
+from locustjump.sim.engine.rollout import DEFAULT_ENGINE, rollout
+from locustjump.tasks.rules import DEFAULT_CHANGE_TIME, RuleController
+
+if TYPE_CHECKING:
+    from locustjump.sim.engine.backends import Backend
+
+
+@dataclass(frozen=True)
+class RulesRun:
+    """One rule-based episode: records (T + 1 rows) and its jumps."""
+
+    qpos: np.ndarray
+    obs: np.ndarray
+    ctrl: np.ndarray
+    jumps: list
+    change_time: float
+    unstable: bool
+
+    def head(self, steps: int, p: lm.LocustParams) -> RulesRun:
+        """Its first ``steps`` control steps (the same as a run of ``steps``:
+        episodes do not depend on their length), jumps found again at ``p``."""
+        qpos = self.qpos[: steps + 1]
+        obs, ctrl = self.obs[: steps + 1], self.ctrl[: steps + 1]
+        jumps = find_jumps(qpos, p)
+        return RulesRun(qpos, obs, ctrl, jumps, self.change_time, self.unstable)
+
+
+def run_rules(
+    change_time: float = DEFAULT_CHANGE_TIME,
+    steps: int = 3000,
+    *,
+    model_params: lm.LocustParams = lm.LocustParams(),
+    backend: Backend | None = None,
+    label: str = "",
+    engine: str = DEFAULT_ENGINE,
+) -> RulesRun:
+    """Run the rule-based successive jumping from the Fig. 4 start state
+    (``backend``: where, :mod:`~.engine.backends`; ``label``: a progress bar
+    on a terminal)."""
+    if steps < 1:
+        raise ValueError(f"steps must be >= 1, got {steps}")
+    rc = RuleController.for_model(model_params)
+    res = rollout(
+        rc,
+        rc.params_for(change_time),
+        StartStates.ready(lm.load_model(model_params)),
+        steps,
+        model_params=model_params,
+        record=("qpos", "obs", "ctrl"),
+        backend=backend,
+        label=label,
+        engine=engine,
+    )
+    qpos = res["qpos"][0]
+    return RulesRun(
+        qpos,
+        res["obs"][0],
+        res["ctrl"][0],
+        find_jumps(qpos, model_params),
+        float(change_time),
+        bool(res.unstable[0]),
+    )
