@@ -1,4 +1,4 @@
-"""The optimizer protocol: each optimizer, plugging one in, and bad input."""
+"""The optimizer base class: each optimizer, plugging one in, and bad input."""
 
 import dataclasses
 from typing import Any, ClassVar
@@ -20,6 +20,8 @@ from locustjump.evo import (
     make_optimizer,
     optimizer_kinds,
     register,
+    rng_from_state,
+    rng_state,
 )
 from locustjump.rundir.config import TrainConfig
 from locustjump.runs.trainer import train
@@ -47,7 +49,7 @@ def test_every_optimizer_follows_the_protocol(kind):
     asked = _run(opt, 30)
     assert isinstance(opt, Optimizer) and kind in optimizer_kinds()
     assert all(x.shape[1] == 5 for x in asked)
-    assert opt.generation == 30 and opt.stop() is None
+    assert opt.generation == 30 and opt.stop() == {}
     # best is the best told so far, and the optimizer improved on its start
     told = np.concatenate([_sphere(x) for x in asked])
     assert opt.best_fitness == told.max() == _sphere(opt.best[None])[0]
@@ -114,42 +116,25 @@ class HillClimbParams:
         return dataclasses.replace(self, **changes)
 
 
-class HillClimb:
-    """Samples around the best genome so far."""
+class HillClimb(Optimizer):
+    """Gaussian samples around the best genome so far."""
 
     Params = HillClimbParams
 
-    def __init__(self, num_params, params, seed):
-        self.params, self.rng = params, np.random.default_rng(seed)
-        self.generation, self.fitness = 0, np.empty(0)
-        self.best, self.best_fitness = np.zeros(num_params), -np.inf
+    def _ask(self):
+        n = (self.params.population, self.num_params)
+        return self.best + self.rng.normal(0, self.params.step, n)
 
-    def ask(self):
-        noise = self.rng.normal(0, self.params.step, (self.params.population, 1))
-        self._x = self.best + noise * np.ones_like(self.best)
-        return self._x
+    def _tell(self, genomes, fitness):
+        pass  # the base keeps the best so far
 
-    def tell(self, fitness):
-        i = int(np.argmax(fitness))
-        if fitness[i] > self.best_fitness:
-            self.best, self.best_fitness = self._x[i].copy(), float(fitness[i])
-        self.fitness, self.generation = np.asarray(fitness), self.generation + 1
+    def _state(self):
+        return {"best": self.best, "best_fitness": np.array(self.best_fitness),
+                "rng": rng_state(self.rng)}  # fmt: skip
 
-    def stop(self):
-        return None
-
-    def state(self):
-        return {"generation": np.array(self.generation), "best": self.best,
-                "best_fitness": np.array(self.best_fitness),
-                "fitness": self.fitness,
-                "rng": np.array(str(self.rng.bit_generator.state))}  # fmt: skip
-
-    def load_state(self, s):
-        import ast
-
-        self.generation, self.best = int(s["generation"]), np.array(s["best"])
-        self.best_fitness, self.fitness = float(s["best_fitness"]), s["fitness"]
-        self.rng.bit_generator.state = ast.literal_eval(str(s["rng"]))
+    def _set_state(self, s):
+        self._set_best(s["best"], float(s["best_fitness"]))
+        self.rng = rng_from_state(s["rng"])
 
 
 def test_a_plugged_optimizer_trains_and_resumes(tmp_path, monkeypatch):
@@ -216,3 +201,75 @@ def test_reproduce_keeps_its_optimizer(tmp_path, capsys):
     assert "optimizer 'rcga', not 'cma'" in err and len(err.splitlines()) == 1
     assert sorted(p.name for p in d.iterdir()) == [rundir.MARKER]
     assert (d / rundir.MARKER).read_bytes() == before
+
+
+# --- the base class's bookkeeping ---------------------------------------------
+
+
+@pytest.mark.parametrize("kind", list(KINDS))
+def test_ask_is_told_once(kind):
+    opt = make_optimizer(KINDS[kind](population=4), 3, seed=1)
+    with pytest.raises(RuntimeError, match="without a pending ask"):
+        opt.tell(np.zeros(4))
+    x = opt.ask()
+    np.testing.assert_array_equal(opt.ask(), x)  # asked again: the same genomes
+    with pytest.raises(RuntimeError, match="between generations"):
+        opt.state()
+    opt.tell(_sphere(x))
+    with pytest.raises(RuntimeError, match="told once"):
+        opt.tell(_sphere(x))
+    assert opt.generation == 1
+
+
+def test_an_optimizer_is_a_subclass_of_the_base():
+    class Duck:  # the members, but not the base's bookkeeping
+        Params = HillClimbParams
+
+        def ask(self): ...
+        def tell(self, f): ...
+
+    with pytest.raises(TypeError, match="Duck is not a subclass"):
+        register(Duck)
+
+    class Half(Optimizer):
+        Params = HillClimbParams
+
+        def _ask(self): ...
+
+    with pytest.raises(TypeError, match="Half does not define _set_state"):
+        register(Half)
+
+    class Wrong(HillClimb):
+        def _ask(self):
+            return np.zeros((2, 3))
+
+    with pytest.raises(ValueError, match=r"_ask\(\) gave shape \(2, 3\)"):
+        Wrong(5, HillClimbParams(), 0).ask()
+
+
+@pytest.mark.parametrize("kind", list(KINDS))
+def test_one_seed_argument(kind):
+    cls, params = OPTIMIZERS[kind], KINDS[kind](population=4)
+    a, b = cls(3, params, seed=4), make_optimizer(params, 3, 4)
+    np.testing.assert_array_equal(a.ask(), b.ask())
+    assert a.seed == 4
+    with pytest.raises(TypeError, match="seed must be an int"):
+        cls(3, params, seed=0.5)
+
+
+def test_rcga_rng_argument_still_works_but_warns():
+    p = RCGAParams(population=4)
+    with pytest.warns(DeprecationWarning, match="seed"):
+        old = RCGA(3, p, rng=7)
+    np.testing.assert_array_equal(old.ask(), RCGA(3, p, seed=7).ask())
+    with pytest.warns(DeprecationWarning):
+        gen = RCGA(3, p, rng=np.random.default_rng(7))
+    np.testing.assert_array_equal(gen.ask(), RCGA(3, p, seed=7).ask())
+
+
+def test_cma_stop_reasons_are_plain_and_leave_the_budget_to_the_trainer():
+    opt = CMAES(4, CMAParams(population=6), seed=0)
+    reasons = {"conditioncov": np.float64(1e14), "tolfun": 1e-11, "maxiter": 3}
+    opt.es.stop = lambda: reasons
+    assert opt.stop() == {"conditioncov": 1e14}
+    assert type(opt.stop()["conditioncov"]) is float

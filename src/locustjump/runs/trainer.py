@@ -17,9 +17,9 @@ from __future__ import annotations
 
 import os
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from tqdm.auto import tqdm
@@ -46,7 +46,9 @@ class TrainResult:
     generation: int  # generations completed
     best: BestGenome
     wall_s: float  # wall time of this call
-    stopped: str | None = None  # why the optimizer stopped before the budget
+    #: why the optimizer stopped before the budget (``Optimizer.stop()``);
+    #: empty if it did not
+    stopped: dict[str, Any] = field(default_factory=dict)
 
 
 class _Run:
@@ -233,12 +235,12 @@ def _loop(
         dynamic_ncols=True,
     )
     done = 0
-    stopped = opt.stop() if opt.generation else None
+    stopped = opt.stop() if opt.generation else {}
     failed = True
     metrics = run.out / rundir.METRICS
     try:
         while (
-            stopped is None
+            not stopped
             and opt.generation < cfg.generations
             and (stop_after is None or done < stop_after)
         ):
