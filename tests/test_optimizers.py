@@ -1,6 +1,8 @@
-"""The optimizer base class: each optimizer, plugging one in, and bad input."""
+"""The optimizer base class: each optimizer, plugging one in, the reason an
+optimizer stops, and bad input."""
 
 import dataclasses
+import json
 from typing import Any, ClassVar
 
 import numpy as np
@@ -24,6 +26,7 @@ from locustjump.evo import (
     rng_state,
 )
 from locustjump.rundir.config import TrainConfig
+from locustjump.runs.reproduce import Budget, stage_done
 from locustjump.runs.trainer import train
 
 KINDS = {"rcga": RCGAParams, "cma": CMAParams, "random": RandomSearchParams}
@@ -273,3 +276,55 @@ def test_cma_stop_reasons_are_plain_and_leave_the_budget_to_the_trainer():
     opt.es.stop = lambda: reasons
     assert opt.stop() == {"conditioncov": 1e14}
     assert type(opt.stop()["conditioncov"]) is float
+
+
+# --- the trainer: stop.json ---------------------------------------------------
+
+
+@dataclasses.dataclass(frozen=True)
+class TiredParams:
+    kind: ClassVar[str] = "tired"
+    population: int = 4
+    init_scale: float = 1.0
+
+    def replace(self, **changes: Any) -> "TiredParams":
+        return dataclasses.replace(self, **changes)
+
+
+class Tired(RandomSearch):
+    """Random search that gives up after two generations."""
+
+    Params = TiredParams
+
+    def _stop(self):
+        return {"tired": np.int64(self.generation)} if self.generation >= 2 else {}
+
+
+TINY = Budget("tiny", 4, {"kick": 5, "getup": 1, "return-legs": 1, "composed": 1})
+
+
+def test_an_early_stop_is_saved_and_shown(tmp_path, monkeypatch, capsys):
+    monkeypatch.setitem(OPTIMIZERS, "tired", Tired)
+    cfg = TrainConfig(generations=5, optimizer=TiredParams(), seed=1)
+    out = tmp_path / "kick"
+    r = train(cfg, out, progress=False)
+    assert r.generation == 2 and r.stopped == {"tired": 2}
+    saved = json.loads((out / rundir.STOP).read_text())
+    assert saved == {"generation": 2, "reasons": {"tired": 2}}
+    assert len(rundir.read_metrics(out / rundir.METRICS)) == 2
+    # resumed, it stops again at once, and so says the command line
+    argv = ["train", "kick", "--resume", "--quiet", "--out", str(out)]
+    assert main(argv) == 0
+    said = capsys.readouterr().out
+    assert "stopped early (tired 2, in stop.json)" in said
+    assert len(rundir.read_metrics(out / rundir.METRICS)) == 2
+    # a reproduction's stage that stopped early is done once evaluated
+    rundir.eval_metrics_path(out).parent.mkdir()
+    rundir.write_json(rundir.eval_metrics_path(out), {})
+    assert stage_done(tmp_path, "kick", TINY)
+    (out / rundir.STOP).unlink()
+    assert not stage_done(tmp_path, "kick", TINY)
+    # a run that goes on to its budget has no stop.json
+    done = train(cfg.replace(optimizer=RandomSearchParams(4)), tmp_path / "b",
+                 progress=False)  # fmt: skip
+    assert done.stopped == {} and not (tmp_path / "b" / rundir.STOP).exists()

@@ -98,7 +98,7 @@ def cmd_train(args: argparse.Namespace) -> int:
     stopped = ""
     if res.stopped:
         why = ", ".join(f"{k} {v}" for k, v in res.stopped.items())
-        stopped = f"; the optimizer stopped early ({why})"
+        stopped = f"; the optimizer stopped early ({why}, in {rundir.STOP})"
     print(
         f"{cfg.behaviour}: {res.generation} generations, best fitness "
         f"{res.best.fitness:.6g} (generation {res.best.generation}){stopped}; "

@@ -7,6 +7,7 @@ A **run** (``locustjump train``)::
     DIR/checkpoint.npz   the optimizer's state after the last generation
     DIR/best.npz         the best genome so far
     DIR/fitness.png      best and mean fitness per generation
+    DIR/stop.json        why the optimizer stopped before the budget, if it did
     DIR/simple.npz       behaviours built on frozen runs (composed): their genomes
     DIR/eval/            ``locustjump evaluate``: trajectories, figures, metrics.json
     DIR/sweep/           extra evaluations a behaviour declares (getup's sweep)

@@ -9,6 +9,7 @@ METRICS = "metrics.csv"
 CHECKPOINT = "checkpoint.npz"
 BEST = "best.npz"
 FITNESS_PNG = "fitness.png"
+STOP = "stop.json"  # why the optimizer stopped before the budget, if it did
 FROZEN = "simple.npz"  # the frozen genomes a behaviour builds on
 EVAL = "eval"  # directory
 EVAL_METRICS = "metrics.json"  # in EVAL

@@ -46,8 +46,8 @@ class TrainResult:
     generation: int  # generations completed
     best: BestGenome
     wall_s: float  # wall time of this call
-    #: why the optimizer stopped before the budget (``Optimizer.stop()``);
-    #: empty if it did not
+    #: why the optimizer stopped before the budget (``Optimizer.stop()``,
+    #: also in ``DIR/stop.json``); empty if it did not
     stopped: dict[str, Any] = field(default_factory=dict)
 
 
@@ -278,6 +278,11 @@ def _loop(
                 refresh=False,
             )
             bar.update(1)
+        if stopped:
+            rundir.write_json(
+                run.out / rundir.STOP,
+                {"generation": opt.generation, "reasons": stopped},
+            )
         failed = False
     finally:
         bar.close()
