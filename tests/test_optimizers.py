@@ -1,5 +1,5 @@
 """The optimizer base class: each optimizer, plugging one in, the reason an
-optimizer stops, and bad input."""
+optimizer stops, its diagnostics in metrics.csv, and bad input."""
 
 import dataclasses
 import json
@@ -278,7 +278,17 @@ def test_cma_stop_reasons_are_plain_and_leave_the_budget_to_the_trainer():
     assert type(opt.stop()["conditioncov"]) is float
 
 
-# --- the trainer: stop.json ---------------------------------------------------
+def test_cma_diagnostics():
+    opt = CMAES(4, CMAParams(population=6, sigma0=0.3), seed=0)
+    d = opt.diagnostics()
+    assert d["sigma"] == 0.3 and d["condition"] == pytest.approx(1.0, rel=1e-3)
+    _run(opt, 20)
+    d = opt.diagnostics()
+    assert d["sigma"] == opt.es.sigma != 0.3 and d["condition"] >= 1.0
+    assert RCGA(3).diagnostics() == {} == RandomSearch(3).diagnostics()
+
+
+# --- the trainer: stop.json, diagnostics columns ------------------------------
 
 
 @dataclasses.dataclass(frozen=True)
@@ -328,3 +338,32 @@ def test_an_early_stop_is_saved_and_shown(tmp_path, monkeypatch, capsys):
     done = train(cfg.replace(optimizer=RandomSearchParams(4)), tmp_path / "b",
                  progress=False)  # fmt: skip
     assert done.stopped == {} and not (tmp_path / "b" / rundir.STOP).exists()
+
+
+def test_diagnostics_columns_and_older_metrics_files(tmp_path):
+    cfg = TrainConfig(generations=3, optimizer=CMAParams(population=6), seed=2)
+    whole = tmp_path / "whole"
+    train(cfg, whole, progress=False)
+    header = (whole / rundir.METRICS).read_text().splitlines()[0].split(",")
+    assert header == [*rundir.METRICS_COLUMNS, "sigma", "condition"]
+    m = rundir.read_metrics(whole / rundir.METRICS)
+    assert m["sigma"][0] != 0.5 and np.all(m["condition"] >= 1.0)
+    # the RCGA's metrics.csv keeps its columns (those of the shipped runs)
+    rcga = tmp_path / "rcga"
+    train(cfg.replace(optimizer=RCGAParams(population=6)), rcga, progress=False)
+    first = (rcga / rundir.METRICS).read_text().splitlines()[0]
+    assert first == ",".join(rundir.METRICS_COLUMNS)
+    # a CMA-ES run written before diagnostics (no such columns) resumes in
+    # its own format, with the same numbers
+    out = tmp_path / "old"
+    train(cfg, out, progress=False, stop_after=2)
+    m = out / rundir.METRICS
+    m.write_text("".join(",".join(ln.split(",")[:8]) + "\n"
+                         for ln in m.read_text().splitlines()))  # fmt: skip
+    train(cfg, out, progress=False, resume=True)
+    rows = m.read_text().splitlines()
+    assert rows[0] == ",".join(rundir.METRICS_COLUMNS)
+    assert len(rows) == 4 and all(len(r.split(",")) == 8 for r in rows)
+    old, new = rundir.read_metrics(m), rundir.read_metrics(whole / rundir.METRICS)
+    for k in ("generation", "best", "mean", "std", "evaluations"):
+        np.testing.assert_array_equal(old[k], new[k])

@@ -67,7 +67,12 @@ def _import_cma():
 
 
 class CMAES(Optimizer):
-    """Ask/tell CMA-ES over pycma. Maximises."""
+    """Ask/tell CMA-ES over pycma. Maximises.
+
+    Diagnostics (``metrics.csv`` columns): ``sigma``, the step size, and
+    ``condition``, the condition number of the covariance matrix C (pycma
+    updates its eigendecomposition every few generations; this is the last).
+    """
 
     Params: ClassVar[type] = CMAParams
 
@@ -102,6 +107,12 @@ class CMAES(Optimizer):
 
     def _stop(self) -> dict[str, Any]:
         return {k: v for k, v in self.es.stop().items() if k not in _BUDGET_RULES}
+
+    def diagnostics(self) -> dict[str, float]:
+        return {
+            "sigma": float(self.es.sigma),
+            "condition": float(self.es.condition_number),
+        }
 
     def _state(self) -> dict[str, np.ndarray]:
         return {

@@ -61,6 +61,7 @@ from locustjump.rundir.run import (
     generations_done,
     load_config,
     load_run,
+    metrics_extra_columns,
     metrics_line,
     read_checkpoint,
     read_metrics,

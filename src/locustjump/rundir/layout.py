@@ -27,6 +27,8 @@ SEEDS_MARKER = "seeds.toml"  # ... a reproduction over several seeds
 RESULTS = "results.md"
 FORMAT = 1  # version of checkpoint.npz / best.npz
 
+#: the columns of every metrics.csv; an optimizer's diagnostics follow them
+#: (CMA-ES: sigma, condition), named in the header
 METRICS_COLUMNS = (
     "generation",
     "best",

@@ -5,6 +5,7 @@ from __future__ import annotations
 import dataclasses
 import hashlib
 import os
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -337,17 +338,38 @@ def generations_done(run: Path) -> int:
     return int(m["generation"][-1]) if len(m) else 0
 
 
-def metrics_line(row: list, wall: float, rate: float) -> str:
+def metrics_line(
+    row: list, wall: float, rate: float, diagnostics: Sequence[float] = ()
+) -> str:
+    """One row of metrics.csv: ``row`` is generation, best, mean, std,
+    evaluations, control steps; ``diagnostics`` the optimizer's extra columns."""
     g, best, mean, std, evaluations, steps = row
     cols = [g, best, mean, std, round(wall, 4), evaluations, steps, round(rate, 1)]
-    return ",".join(map(str, cols)) + "\n"
+    return ",".join(map(str, [*cols, *diagnostics])) + "\n"
 
 
-def truncate_metrics(path: Path, generation: int, last_row: str) -> None:
-    """Keep the header and the rows of generations 1..``generation``; the row of
+def metrics_extra_columns(path: Path) -> tuple[str, ...] | None:
+    """The optimizer's columns after :data:`METRICS_COLUMNS` in the header of
+    metrics.csv ``path``; ``None`` if it has no such header (absent, empty,
+    damaged). Files written before diagnostics existed have none: ``()``."""
+    try:
+        with open(path) as f:
+            first = f.readline()
+    except FileNotFoundError:
+        return None
+    names = tuple(first.strip().split(","))
+    n = len(METRICS_COLUMNS)
+    return names[n:] if first.endswith("\n") and names[:n] == METRICS_COLUMNS else None
+
+
+def truncate_metrics(
+    path: Path, generation: int, last_row: str, extra: Sequence[str] = ()
+) -> None:
+    """Keep the header (:data:`METRICS_COLUMNS` and the optimizer's ``extra``
+    columns) and the rows of generations 1..``generation``; the row of
     ``generation`` itself is ``last_row`` (from the checkpoint) if missing."""
     lines = path.read_text().splitlines(keepends=True) if path.exists() else []
-    header = ",".join(METRICS_COLUMNS) + "\n"
+    header = ",".join((*METRICS_COLUMNS, *extra)) + "\n"
     keep = []
     for n, ln in enumerate(lines[1:], start=2):
         if not ln.strip():
