@@ -99,3 +99,13 @@ def test_markers_summaries_and_frozen_files_of_older_versions(tmp_path):
     assert migrations.frozen_path(tmp_path) == tmp_path / "simple.npz"
     np.savez(tmp_path / rundir.FROZEN, x=np.zeros(1))
     assert migrations.frozen_path(tmp_path) == tmp_path / rundir.FROZEN
+
+
+def test_a_newer_npz_format_is_refused_in_one_line(tmp_path):
+    best = rundir.BestGenome(np.zeros(3), 1.0, 1, "kick", "0" * 16)
+    best.save(tmp_path / "best.npz")
+    assert rundir.BestGenome.load(tmp_path / "best.npz", 3).fitness == 1.0
+    z = dict(np.load(tmp_path / "best.npz"))
+    np.savez(tmp_path / "best.npz", **{**z, "format": np.array(rundir.FORMAT + 1)})
+    with pytest.raises(UserError, match="a newer locustjump wrote it"):
+        rundir.BestGenome.load(tmp_path / "best.npz", 3)

@@ -1,6 +1,8 @@
-"""The optimizer protocol: each optimizer, plugging one in, and bad input."""
+"""The optimizer base class: each optimizer, plugging one in, the reason an
+optimizer stops, its diagnostics in metrics.csv, and bad input."""
 
 import dataclasses
+import json
 from typing import Any, ClassVar
 
 import numpy as np
@@ -20,8 +22,11 @@ from locustjump.evo import (
     make_optimizer,
     optimizer_kinds,
     register,
+    rng_from_state,
+    rng_state,
 )
 from locustjump.rundir.config import TrainConfig
+from locustjump.runs.reproduce import Budget, stage_done
 from locustjump.runs.trainer import train
 
 KINDS = {"rcga": RCGAParams, "cma": CMAParams, "random": RandomSearchParams}
@@ -47,7 +52,7 @@ def test_every_optimizer_follows_the_protocol(kind):
     asked = _run(opt, 30)
     assert isinstance(opt, Optimizer) and kind in optimizer_kinds()
     assert all(x.shape[1] == 5 for x in asked)
-    assert opt.generation == 30 and opt.stop() is None
+    assert opt.generation == 30 and opt.stop() == {}
     # best is the best told so far, and the optimizer improved on its start
     told = np.concatenate([_sphere(x) for x in asked])
     assert opt.best_fitness == told.max() == _sphere(opt.best[None])[0]
@@ -114,42 +119,25 @@ class HillClimbParams:
         return dataclasses.replace(self, **changes)
 
 
-class HillClimb:
-    """Samples around the best genome so far."""
+class HillClimb(Optimizer):
+    """Gaussian samples around the best genome so far."""
 
     Params = HillClimbParams
 
-    def __init__(self, num_params, params, seed):
-        self.params, self.rng = params, np.random.default_rng(seed)
-        self.generation, self.fitness = 0, np.empty(0)
-        self.best, self.best_fitness = np.zeros(num_params), -np.inf
+    def _ask(self):
+        n = (self.params.population, self.num_params)
+        return self.best + self.rng.normal(0, self.params.step, n)
 
-    def ask(self):
-        noise = self.rng.normal(0, self.params.step, (self.params.population, 1))
-        self._x = self.best + noise * np.ones_like(self.best)
-        return self._x
+    def _tell(self, genomes, fitness):
+        pass  # the base keeps the best so far
 
-    def tell(self, fitness):
-        i = int(np.argmax(fitness))
-        if fitness[i] > self.best_fitness:
-            self.best, self.best_fitness = self._x[i].copy(), float(fitness[i])
-        self.fitness, self.generation = np.asarray(fitness), self.generation + 1
+    def _state(self):
+        return {"best": self.best, "best_fitness": np.array(self.best_fitness),
+                "rng": rng_state(self.rng)}  # fmt: skip
 
-    def stop(self):
-        return None
-
-    def state(self):
-        return {"generation": np.array(self.generation), "best": self.best,
-                "best_fitness": np.array(self.best_fitness),
-                "fitness": self.fitness,
-                "rng": np.array(str(self.rng.bit_generator.state))}  # fmt: skip
-
-    def load_state(self, s):
-        import ast
-
-        self.generation, self.best = int(s["generation"]), np.array(s["best"])
-        self.best_fitness, self.fitness = float(s["best_fitness"]), s["fitness"]
-        self.rng.bit_generator.state = ast.literal_eval(str(s["rng"]))
+    def _set_state(self, s):
+        self._set_best(s["best"], float(s["best_fitness"]))
+        self.rng = rng_from_state(s["rng"])
 
 
 def test_a_plugged_optimizer_trains_and_resumes(tmp_path, monkeypatch):
@@ -216,3 +204,166 @@ def test_reproduce_keeps_its_optimizer(tmp_path, capsys):
     assert "optimizer 'rcga', not 'cma'" in err and len(err.splitlines()) == 1
     assert sorted(p.name for p in d.iterdir()) == [rundir.MARKER]
     assert (d / rundir.MARKER).read_bytes() == before
+
+
+# --- the base class's bookkeeping ---------------------------------------------
+
+
+@pytest.mark.parametrize("kind", list(KINDS))
+def test_ask_is_told_once(kind):
+    opt = make_optimizer(KINDS[kind](population=4), 3, seed=1)
+    with pytest.raises(RuntimeError, match="without a pending ask"):
+        opt.tell(np.zeros(4))
+    x = opt.ask()
+    np.testing.assert_array_equal(opt.ask(), x)  # asked again: the same genomes
+    with pytest.raises(RuntimeError, match="between generations"):
+        opt.state()
+    opt.tell(_sphere(x))
+    with pytest.raises(RuntimeError, match="told once"):
+        opt.tell(_sphere(x))
+    assert opt.generation == 1
+
+
+def test_an_optimizer_is_a_subclass_of_the_base():
+    class Duck:  # the members, but not the base's bookkeeping
+        Params = HillClimbParams
+
+        def ask(self): ...
+        def tell(self, f): ...
+
+    with pytest.raises(TypeError, match="Duck is not a subclass"):
+        register(Duck)
+
+    class Half(Optimizer):
+        Params = HillClimbParams
+
+        def _ask(self): ...
+
+    with pytest.raises(TypeError, match="Half does not define _set_state"):
+        register(Half)
+
+    class Wrong(HillClimb):
+        def _ask(self):
+            return np.zeros((2, 3))
+
+    with pytest.raises(ValueError, match=r"_ask\(\) gave shape \(2, 3\)"):
+        Wrong(5, HillClimbParams(), 0).ask()
+
+
+@pytest.mark.parametrize("kind", list(KINDS))
+def test_one_seed_argument(kind):
+    cls, params = OPTIMIZERS[kind], KINDS[kind](population=4)
+    a, b = cls(3, params, seed=4), make_optimizer(params, 3, 4)
+    np.testing.assert_array_equal(a.ask(), b.ask())
+    assert a.seed == 4
+    with pytest.raises(TypeError, match="seed must be an int"):
+        cls(3, params, seed=0.5)
+
+
+def test_rcga_rng_argument_still_works_but_warns():
+    p = RCGAParams(population=4)
+    with pytest.warns(DeprecationWarning, match="seed"):
+        old = RCGA(3, p, rng=7)
+    np.testing.assert_array_equal(old.ask(), RCGA(3, p, seed=7).ask())
+    with pytest.warns(DeprecationWarning):
+        gen = RCGA(3, p, rng=np.random.default_rng(7))
+    np.testing.assert_array_equal(gen.ask(), RCGA(3, p, seed=7).ask())
+
+
+def test_cma_stop_reasons_are_plain_and_leave_the_budget_to_the_trainer():
+    opt = CMAES(4, CMAParams(population=6), seed=0)
+    reasons = {"conditioncov": np.float64(1e14), "tolfun": 1e-11, "maxiter": 3}
+    opt.es.stop = lambda: reasons
+    assert opt.stop() == {"conditioncov": 1e14}
+    assert type(opt.stop()["conditioncov"]) is float
+
+
+def test_cma_diagnostics():
+    opt = CMAES(4, CMAParams(population=6, sigma0=0.3), seed=0)
+    d = opt.diagnostics()
+    assert d["sigma"] == 0.3 and d["condition"] == pytest.approx(1.0, rel=1e-3)
+    _run(opt, 20)
+    d = opt.diagnostics()
+    assert d["sigma"] == opt.es.sigma != 0.3 and d["condition"] >= 1.0
+    assert RCGA(3).diagnostics() == {} == RandomSearch(3).diagnostics()
+
+
+# --- the trainer: stop.json, diagnostics columns ------------------------------
+
+
+@dataclasses.dataclass(frozen=True)
+class TiredParams:
+    kind: ClassVar[str] = "tired"
+    population: int = 4
+    init_scale: float = 1.0
+
+    def replace(self, **changes: Any) -> "TiredParams":
+        return dataclasses.replace(self, **changes)
+
+
+class Tired(RandomSearch):
+    """Random search that gives up after two generations."""
+
+    Params = TiredParams
+
+    def _stop(self):
+        return {"tired": np.int64(self.generation)} if self.generation >= 2 else {}
+
+
+TINY = Budget("tiny", 4, {"kick": 5, "getup": 1, "return-legs": 1, "composed": 1})
+
+
+def test_an_early_stop_is_saved_and_shown(tmp_path, monkeypatch, capsys):
+    monkeypatch.setitem(OPTIMIZERS, "tired", Tired)
+    cfg = TrainConfig(generations=5, optimizer=TiredParams(), seed=1)
+    out = tmp_path / "kick"
+    r = train(cfg, out, progress=False)
+    assert r.generation == 2 and r.stopped == {"tired": 2}
+    saved = json.loads((out / rundir.STOP).read_text())
+    assert saved == {"generation": 2, "reasons": {"tired": 2}}
+    assert len(rundir.read_metrics(out / rundir.METRICS)) == 2
+    # resumed, it stops again at once, and so says the command line
+    argv = ["train", "kick", "--resume", "--quiet", "--out", str(out)]
+    assert main(argv) == 0
+    said = capsys.readouterr().out
+    assert "stopped early (tired 2, in stop.json)" in said
+    assert len(rundir.read_metrics(out / rundir.METRICS)) == 2
+    # a reproduction's stage that stopped early is done once evaluated
+    rundir.eval_metrics_path(out).parent.mkdir()
+    rundir.write_json(rundir.eval_metrics_path(out), {})
+    assert stage_done(tmp_path, "kick", TINY)
+    (out / rundir.STOP).unlink()
+    assert not stage_done(tmp_path, "kick", TINY)
+    # a run that goes on to its budget has no stop.json
+    done = train(cfg.replace(optimizer=RandomSearchParams(4)), tmp_path / "b",
+                 progress=False)  # fmt: skip
+    assert done.stopped == {} and not (tmp_path / "b" / rundir.STOP).exists()
+
+
+def test_diagnostics_columns_and_older_metrics_files(tmp_path):
+    cfg = TrainConfig(generations=3, optimizer=CMAParams(population=6), seed=2)
+    whole = tmp_path / "whole"
+    train(cfg, whole, progress=False)
+    header = (whole / rundir.METRICS).read_text().splitlines()[0].split(",")
+    assert header == [*rundir.METRICS_COLUMNS, "sigma", "condition"]
+    m = rundir.read_metrics(whole / rundir.METRICS)
+    assert m["sigma"][0] != 0.5 and np.all(m["condition"] >= 1.0)
+    # the RCGA's metrics.csv keeps its columns (those of the shipped runs)
+    rcga = tmp_path / "rcga"
+    train(cfg.replace(optimizer=RCGAParams(population=6)), rcga, progress=False)
+    first = (rcga / rundir.METRICS).read_text().splitlines()[0]
+    assert first == ",".join(rundir.METRICS_COLUMNS)
+    # a CMA-ES run written before diagnostics (no such columns) resumes in
+    # its own format, with the same numbers
+    out = tmp_path / "old"
+    train(cfg, out, progress=False, stop_after=2)
+    m = out / rundir.METRICS
+    m.write_text("".join(",".join(ln.split(",")[:8]) + "\n"
+                         for ln in m.read_text().splitlines()))  # fmt: skip
+    train(cfg, out, progress=False, resume=True)
+    rows = m.read_text().splitlines()
+    assert rows[0] == ",".join(rundir.METRICS_COLUMNS)
+    assert len(rows) == 4 and all(len(r.split(",")) == 8 for r in rows)
+    old, new = rundir.read_metrics(m), rundir.read_metrics(whole / rundir.METRICS)
+    for k in ("generation", "best", "mean", "std", "evaluations"):
+        np.testing.assert_array_equal(old[k], new[k])

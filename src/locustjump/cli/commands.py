@@ -95,7 +95,10 @@ def cmd_train(args: argparse.Namespace) -> int:
         progress=not args.quiet,
         frozen=frozen,
     )
-    stopped = f"; the optimizer stopped: {res.stopped}" if res.stopped else ""
+    stopped = ""
+    if res.stopped:
+        why = ", ".join(f"{k} {v}" for k, v in res.stopped.items())
+        stopped = f"; the optimizer stopped early ({why}, in {rundir.STOP})"
     print(
         f"{cfg.behaviour}: {res.generation} generations, best fitness "
         f"{res.best.fitness:.6g} (generation {res.best.generation}){stopped}; "

@@ -1,4 +1,4 @@
-"""Optimizers behind one ask/tell protocol (:mod:`locustjump.evo.base`).
+"""Optimizers on one ask/tell base class (:mod:`locustjump.evo.base`).
 
 =========  ==========================================  ===================
 kind       what                                        module
@@ -8,8 +8,9 @@ kind       what                                        module
 ``random`` random search, the floor to beat            :mod:`.random_search`
 =========  ==========================================  ===================
 
-A new optimizer is a class with the protocol's members and a frozen settings
-dataclass; :func:`register` makes it available to ``TrainConfig``,
+A new optimizer subclasses :class:`Optimizer` (it writes ``_ask``, ``_tell``,
+``_state``, ``_set_state``; the base does the bookkeeping) and has a frozen
+settings dataclass; :func:`register` makes it available to ``TrainConfig``,
 ``config.toml`` and the command line by its ``kind``.
 """
 
@@ -17,21 +18,32 @@ from __future__ import annotations
 
 from typing import Any
 
-from locustjump.evo.base import Optimizer, OptimizerParams
+from locustjump.evo.base import (
+    Optimizer,
+    OptimizerParams,
+    rng_from_state,
+    rng_state,
+)
 from locustjump.evo.cma import CMAES, CMAParams
 from locustjump.evo.random_search import RandomSearch, RandomSearchParams
 from locustjump.evo.rcga import RCGA, RCGAParams
 
-_REGISTRY: dict[str, type] = {}
+_REGISTRY: dict[str, type[Optimizer]] = {}
 
 
-def register(cls: type) -> type:
+def register(cls: type[Optimizer]) -> type[Optimizer]:
     """Make optimizer class ``cls`` (with ``cls.Params.kind``) known by kind."""
-    kind = cls.Params.kind
-    for member in ("ask", "tell", "stop", "state", "load_state"):
-        if not callable(getattr(cls, member, None)):
-            raise TypeError(f"{cls.__name__} has no {member}() method")
-    _REGISTRY[kind] = cls
+    if not (isinstance(cls, type) and issubclass(cls, Optimizer)):
+        raise TypeError(
+            f"{getattr(cls, '__name__', cls)} is not a subclass of "
+            "locustjump.evo.Optimizer"
+        )
+    if getattr(cls, "__abstractmethods__", None):
+        missing = ", ".join(sorted(cls.__abstractmethods__))
+        raise TypeError(f"{cls.__name__} does not define {missing}")
+    if not isinstance(getattr(cls, "Params", None), type):
+        raise TypeError(f"{cls.__name__} has no Params settings class")
+    _REGISTRY[cls.Params.kind] = cls
     return cls
 
 
@@ -73,4 +85,6 @@ __all__ = [
     "optimizer_kinds",
     "params_class",
     "register",
+    "rng_from_state",
+    "rng_state",
 ]

@@ -1,21 +1,41 @@
-"""What an optimizer is: one small ask/tell object (the trainer's only view).
+"""The optimizer base class: the ask/tell bookkeeping every optimizer shares.
 
-An optimizer proposes genomes (:meth:`Optimizer.ask`, an ``(n, P)`` array),
-is told their fitness (:meth:`Optimizer.tell`, **maximised**, same order),
-keeps the best genome it has seen, may say why it would stop
-(:meth:`Optimizer.stop`), and saves and restores its whole state as plain
-arrays (:meth:`Optimizer.state` / :meth:`Optimizer.load_state`) that go into
-the run's ``checkpoint.npz``, never a pickle.
+The shape of evosax's ``algorithms/base.py``: :class:`Optimizer` owns what is
+the same for every optimizer — the generation counter, the genomes asked and
+awaiting their fitness, the best genome and fitness told so far, the
+population's fitness (what ``metrics.csv`` summarises), the checkpoint
+state's frame and the run's random generator — and an optimizer writes only
+what differs:
 
-Its settings are a frozen dataclass with a ``kind`` (its name in
+==================  ====================================================
+``_ask()``          the next genomes, an ``(n, P)`` array
+``_tell(x, f)``     learn from genomes ``x`` and their fitness ``f``
+                    (maximised); may return the population's fitness
+                    when it holds more than ``x`` (the RCGA's elites)
+``_state()``        its own state as plain arrays (``checkpoint.npz``)
+``_set_state(s)``   the inverse of ``_state``
+``_stop()``         optional: why it would stop, ``{reason: value}``
+``diagnostics()``   optional: extra ``metrics.csv`` columns, ``{name: value}``
+==================  ====================================================
+
+A ``_set_state`` whose state holds the best genome so far restores it with
+``_set_best``; the base keeps it up to date on every :meth:`Optimizer.tell`.
+
+Its settings are a frozen dataclass (``Params``) with a ``kind`` (its name in
 ``config.toml``'s ``[optimizer]`` table and on ``--optimizer``) and a
-``population``; every random choice comes from the run's seed, so the same
-seed gives the same genomes bit for bit.
+``population``. Every optimizer is constructed as ``cls(num_params, params,
+seed)``; every random choice comes from ``self.rng``, seeded from ``seed``,
+so the same seed gives the same genomes bit for bit. The state is plain
+arrays, never a pickle.
 """
 
 from __future__ import annotations
 
 import json
+import math
+import numbers
+import operator
+from abc import ABC, abstractmethod
 from collections.abc import Mapping
 from typing import Any, ClassVar, Protocol, runtime_checkable
 
@@ -30,37 +50,6 @@ class OptimizerParams(Protocol):
     population: int
 
     def replace(self, **changes: Any) -> OptimizerParams: ...
-
-
-@runtime_checkable
-class Optimizer(Protocol):
-    """The ask/tell protocol the trainer drives.
-
-    Constructed as ``cls(num_params, params, seed)``. Attributes after each
-    :meth:`tell`: ``generation`` (completed tells), ``fitness`` (the current
-    population's fitness, what ``metrics.csv`` summarises), ``best`` and
-    ``best_fitness`` (the best genome told so far).
-    """
-
-    Params: ClassVar[type]
-    generation: int
-    fitness: np.ndarray
-
-    def ask(self) -> np.ndarray: ...
-
-    def tell(self, fitness: np.ndarray) -> None: ...
-
-    @property
-    def best(self) -> np.ndarray: ...
-
-    @property
-    def best_fitness(self) -> float: ...
-
-    def stop(self) -> str | None: ...
-
-    def state(self) -> dict[str, np.ndarray]: ...
-
-    def load_state(self, state: Mapping[str, np.ndarray]) -> None: ...
 
 
 def check_fitness(fitness: np.ndarray, n: int) -> np.ndarray:
@@ -88,51 +77,165 @@ def rng_from_state(text: Any) -> np.random.Generator:
     return np.random.Generator(bg)
 
 
-class BestSoFar:
-    """Bookkeeping shared by optimizers that sample a fresh population each
-    generation: the pending ``ask``, the best genome told so far, the counters.
-    A subclass makes genomes in :meth:`_sample` and may act on a tell in
-    :meth:`_learn`."""
+def _plain(value: Any) -> bool | int | float | str:
+    """A stop reason's value as a JSON scalar (pycma gives NumPy numbers)."""
+    if isinstance(value, bool | np.bool_):
+        return bool(value)
+    if isinstance(value, numbers.Integral):
+        return int(value)
+    if isinstance(value, numbers.Real) and math.isfinite(value):
+        return float(value)
+    return str(value)
 
-    def _reset(self, num_params: int) -> None:
+
+class Optimizer(ABC):
+    """An ask/tell optimizer; fitness is **maximised**.
+
+    Constructed as ``cls(num_params, params, seed)``. The trainer calls
+    :meth:`ask` for genomes, evaluates them, and :meth:`tell` s their fitness
+    in the same order; :meth:`ask` again before :meth:`tell` returns the same
+    genomes, :meth:`tell` without a pending :meth:`ask` is a ``RuntimeError``.
+
+    Attributes after each :meth:`tell`: ``generation`` (completed tells),
+    ``fitness`` (the current population's, what ``metrics.csv`` summarises),
+    :attr:`best` and :attr:`best_fitness` (the best genome told so far).
+
+    Args:
+      num_params: genes per genome (``P``).
+      params: the settings, an instance of ``cls.Params``.
+      seed: the run's seed; ``self.rng`` is ``numpy.random.default_rng(seed)``.
+    """
+
+    Params: ClassVar[type]
+
+    def __init__(self, num_params: int, params: Any, seed: int = 0) -> None:
+        if not isinstance(seed, numbers.Integral):
+            raise TypeError(f"seed must be an int, got {type(seed).__name__}")
+        if num_params < 1:
+            raise ValueError(f"num_params must be >= 1, got {num_params}")
+        self.num_params = operator.index(num_params)
+        self.params = params
+        self.seed = int(seed)
+        self._restart()
+
+    def _restart(self) -> None:
+        """Generation 0: nothing told, ``self.rng`` fresh from the seed."""
+        self.rng = np.random.default_rng(self.seed)
         self.generation = 0
         self.fitness = np.empty(0)
-        self._best = np.zeros(num_params)
+        self._best = np.zeros(self.num_params)
         self._best_fitness = -np.inf
         self._asked: np.ndarray | None = None
 
-    def _sample(self) -> np.ndarray:
-        raise NotImplementedError
+    # -- what an optimizer writes ----------------------------------------------
 
-    def _learn(self, x: np.ndarray, f: np.ndarray) -> None:
-        """What the optimizer does with a told generation (default: nothing)."""
+    @abstractmethod
+    def _ask(self) -> np.ndarray:
+        """The next genomes to evaluate, ``(n, num_params)``."""
+
+    @abstractmethod
+    def _tell(self, genomes: np.ndarray, fitness: np.ndarray) -> np.ndarray | None:
+        """Learn from ``genomes`` (the last ``_ask()``) and their ``fitness``
+        (checked: float64, no NaN). Returns the population's fitness if it
+        holds more than ``genomes`` (elites kept with their fitness), else
+        ``None`` (the population is what was told)."""
+
+    @abstractmethod
+    def _state(self) -> dict[str, np.ndarray]:
+        """Arrays that, with ``generation``, restore the optimizer exactly."""
+
+    @abstractmethod
+    def _set_state(self, state: Mapping[str, np.ndarray]) -> None:
+        """Inverse of :meth:`_state` (``ValueError`` on inconsistent data);
+        ``self.generation`` is already ``state["generation"]``."""
+
+    def _stop(self) -> Mapping[str, Any]:
+        """Why the optimizer would stop before the budget: reason -> value
+        (default: never)."""
+        return {}
+
+    def diagnostics(self) -> dict[str, float]:
+        """Numbers that show the optimizer's own state, one ``metrics.csv``
+        column each (e.g. CMA-ES's step size). The same names from
+        construction on, values of the last :meth:`tell`; default: none."""
+        return {}
+
+    # -- the bookkeeping -------------------------------------------------------
 
     def ask(self) -> np.ndarray:
-        """Genomes to evaluate next, (n, num_params)."""
+        """Genomes to evaluate next, ``(n, num_params)``; the same ones until
+        :meth:`tell`."""
         if self._asked is None:
-            self._asked = self._sample()
+            x = np.asarray(self._ask(), dtype=np.float64)
+            if x.ndim != 2 or x.shape[0] < 1 or x.shape[1] != self.num_params:
+                raise ValueError(
+                    f"{type(self).__name__}._ask() gave shape {x.shape}, "
+                    f"expected (n, {self.num_params})"
+                )
+            self._asked = x
         return self._asked.copy()
 
     def tell(self, fitness: np.ndarray) -> None:
-        """Fitness (n,) of the genomes of the last :meth:`ask`, same order."""
+        """Fitness ``(n,)`` of the genomes of the last :meth:`ask`, same order."""
         if self._asked is None:
-            raise RuntimeError("tell() without a pending ask()")
-        f = check_fitness(fitness, self._asked.shape[0])
-        self._learn(self._asked, f)
+            raise RuntimeError(
+                f"tell() without a pending ask() (generation {self.generation} "
+                "is told; each ask() is told once)"
+            )
+        x = self._asked
+        f = check_fitness(fitness, x.shape[0])
+        population = self._tell(x, f)
         i = int(np.argmax(f))
-        if f[i] > self._best_fitness:
-            self._best, self._best_fitness = self._asked[i].copy(), float(f[i])
-        self.fitness, self._asked = f, None
+        if self.generation == 0 or f[i] > self._best_fitness:
+            self._set_best(x[i], f[i])
+        self.fitness = f if population is None else population
+        self._asked = None
         self.generation += 1
 
     @property
     def best(self) -> np.ndarray:
+        """The best genome told so far, ``(num_params,)``."""
         return self._best.copy()
 
     @property
     def best_fitness(self) -> float:
+        """Its fitness (``-inf`` before the first :meth:`tell`)."""
         return self._best_fitness
 
-    def _check_between_generations(self) -> None:
+    def _set_best(self, genome: np.ndarray, fitness: float) -> None:
+        """Restore the best genome so far (from a state that holds it)."""
+        self._best = np.array(genome, dtype=np.float64)
+        self._best_fitness = float(fitness)
+        if self._best.shape != (self.num_params,):
+            raise ValueError(f"best genome has shape {self._best.shape}")
+
+    def stop(self) -> dict[str, bool | int | float | str]:
+        """Why the optimizer stops before the budget, as pycma's ``stop()``:
+        ``{reason: value}`` with JSON values, empty while it goes on."""
+        return {str(k): _plain(v) for k, v in self._stop().items()}
+
+    def state(self) -> dict[str, np.ndarray]:
+        """Arrays that restore this optimizer exactly (``checkpoint.npz``),
+        between generations only (``RuntimeError`` with a pending ask)."""
         if self._asked is not None:
             raise RuntimeError("checkpoint between generations (after tell())")
+        return {"generation": np.array(self.generation), **self._state()}
+
+    def load_state(self, state: Mapping[str, np.ndarray]) -> None:
+        """Inverse of :meth:`state` (``ValueError`` or ``KeyError`` on bad data)."""
+        self._asked = None
+        self.generation = int(state["generation"])
+        self._set_state(state)
+
+    @classmethod
+    def from_state(
+        cls,
+        num_params: int,
+        params: Any,
+        state: Mapping[str, np.ndarray],
+        seed: int = 0,
+    ) -> Optimizer:
+        """An optimizer restored from :meth:`state`."""
+        opt = cls(num_params, params, seed)
+        opt.load_state(state)
+        return opt

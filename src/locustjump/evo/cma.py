@@ -25,7 +25,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from locustjump.evo.base import BestSoFar
+from locustjump.evo.base import Optimizer
 
 #: pycma's stop keys that are ours to ignore: the trainer owns the budget
 _BUDGET_RULES = {
@@ -66,22 +66,28 @@ def _import_cma():
     return cma
 
 
-class CMAES(BestSoFar):
-    """Ask/tell CMA-ES over pycma. Maximises."""
+class CMAES(Optimizer):
+    """Ask/tell CMA-ES over pycma. Maximises.
+
+    Diagnostics (``metrics.csv`` columns): ``sigma``, the step size, and
+    ``condition``, the condition number of the covariance matrix C (pycma
+    updates its eigendecomposition every few generations; this is the last).
+    """
 
     Params: ClassVar[type] = CMAParams
 
     def __init__(self, num_params: int, params: CMAParams = CMAParams(), seed: int = 0):
-        self.num_params, self.params, self.seed = int(num_params), params, int(seed)
+        super().__init__(num_params, params, seed)
         self._start()
 
     def _start(self) -> None:
+        """pycma at generation 0, sampling from ``self.rng`` (fresh from the seed)."""
         cma = _import_cma()
-        rng = np.random.default_rng(self.seed)
+        self._restart()
         opts = {
             "popsize": self.params.population,
             "seed": np.nan,  # pycma leaves numpy's global generator alone
-            "randn": lambda lam, n: rng.standard_normal((lam, n)),
+            "randn": lambda lam, n: self.rng.standard_normal((lam, n)),
             "verbose": -9,
             "verb_log": 0,
             "verb_disp": 0,
@@ -91,35 +97,37 @@ class CMAES(BestSoFar):
             np.zeros(self.num_params), self.params.sigma0, opts
         )
         self.history: list[np.ndarray] = []
-        self._reset(self.num_params)
 
-    def _sample(self) -> np.ndarray:
+    def _ask(self) -> np.ndarray:
         return np.array(self.es.ask(), dtype=np.float64)
 
-    def _learn(self, x: np.ndarray, f: np.ndarray) -> None:
-        self.es.tell(list(x), list(-f))  # pycma minimises
-        self.history.append(f.copy())
+    def _tell(self, genomes: np.ndarray, fitness: np.ndarray) -> None:
+        self.es.tell(list(genomes), list(-fitness))  # pycma minimises
+        self.history.append(fitness.copy())
 
-    def stop(self) -> str | None:
-        reasons = {k: v for k, v in self.es.stop().items() if k not in _BUDGET_RULES}
-        return ", ".join(f"{k} {v}" for k, v in reasons.items()) or None
+    def _stop(self) -> dict[str, Any]:
+        return {k: v for k, v in self.es.stop().items() if k not in _BUDGET_RULES}
 
-    def state(self) -> dict[str, np.ndarray]:
-        self._check_between_generations()
+    def diagnostics(self) -> dict[str, float]:
         return {
-            "generation": np.array(self.generation),
+            "sigma": float(self.es.sigma),
+            "condition": float(self.es.condition_number),
+        }
+
+    def _state(self) -> dict[str, np.ndarray]:
+        return {
             "seed": np.array(self.seed),
             "fitness_history": np.array(self.history).reshape(
                 self.generation, self.params.population
             ),
         }
 
-    def load_state(self, state: Mapping[str, np.ndarray]) -> None:
+    def _set_state(self, state: Mapping[str, np.ndarray]) -> None:
         """Rebuild from the seed and replay ask/tell with the recorded fitness."""
         hist = np.asarray(state["fitness_history"], dtype=np.float64)
         if int(state["seed"]) != self.seed:
             raise ValueError(f"state is of seed {int(state['seed'])}, not {self.seed}")
-        if hist.shape != (int(state["generation"]), self.params.population):
+        if hist.shape != (self.generation, self.params.population):
             raise ValueError(f"fitness_history has the wrong shape {hist.shape}")
         self._start()
         for f in hist:

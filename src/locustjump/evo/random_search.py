@@ -15,7 +15,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from locustjump.evo.base import BestSoFar, rng_from_state, rng_state
+from locustjump.evo.base import Optimizer, rng_from_state, rng_state
 
 
 @dataclass(frozen=True)
@@ -36,7 +36,7 @@ class RandomSearchParams:
         return dataclasses.replace(self, **changes)
 
 
-class RandomSearch(BestSoFar):
+class RandomSearch(Optimizer):
     """Ask/tell random search. Maximises; never stops on its own."""
 
     Params: ClassVar[type] = RandomSearchParams
@@ -47,32 +47,27 @@ class RandomSearch(BestSoFar):
         params: RandomSearchParams = RandomSearchParams(),
         seed: int = 0,
     ):
-        self.num_params, self.params = int(num_params), params
-        self.rng = np.random.default_rng(seed)
-        self._reset(self.num_params)
+        super().__init__(num_params, params, seed)
 
-    def _sample(self) -> np.ndarray:
+    def _ask(self) -> np.ndarray:
         s = self.params.init_scale
         return self.rng.uniform(-s, s, size=(self.params.population, self.num_params))
 
-    def stop(self) -> str | None:
-        return None
+    def _tell(self, genomes: np.ndarray, fitness: np.ndarray) -> None:
+        """Nothing to learn: the next sample does not depend on the last."""
 
-    def state(self) -> dict[str, np.ndarray]:
-        self._check_between_generations()
+    def _state(self) -> dict[str, np.ndarray]:
+        # the best so far cannot be recomputed from the generator: it is saved
         return {
-            "generation": np.array(self.generation),
             "fitness": self.fitness.copy(),
-            "best": self._best.copy(),
-            "best_fitness_so_far": np.array(self._best_fitness),
+            "best": self.best,
+            "best_fitness_so_far": np.array(self.best_fitness),
             "rng_state": rng_state(self.rng),
         }
 
-    def load_state(self, state: Mapping[str, np.ndarray]) -> None:
+    def _set_state(self, state: Mapping[str, np.ndarray]) -> None:
         self.rng = rng_from_state(state["rng_state"])
-        self.generation = int(state["generation"])
         self.fitness = np.array(state["fitness"], dtype=np.float64)
-        self._best = np.array(state["best"], dtype=np.float64)
-        self._best_fitness = float(state["best_fitness_so_far"])
-        if self._best.shape != (self.num_params,) or self.generation < 1:
+        self._set_best(state["best"], float(state["best_fitness_so_far"]))
+        if self.generation < 1:
             raise ValueError("random-search state has the wrong shape")

@@ -18,12 +18,13 @@ defaults (SPEC "RCGA") and why:
   ``mutation_rate``, by Gaussian noise of standard deviation ``mutation_sigma``.
 
 Fitness is maximised. All randomness comes from one ``numpy.random.Generator``
-that the caller passes in, so a run is reproduced exactly from its seed and can
-be checkpointed (:meth:`RCGA.state` / :meth:`RCGA.from_state`).
+seeded from the run's seed, so a run is reproduced exactly from its seed and can
+be checkpointed (:meth:`RCGA.state` / :meth:`RCGA.from_state`). The ask/tell
+bookkeeping is :class:`~locustjump.evo.base.Optimizer`'s.
 
 Example::
 
-    ga = RCGA(num_params=10, params=RCGAParams(population=50), rng=0)
+    ga = RCGA(num_params=10, params=RCGAParams(population=50), seed=0)
     for _ in range(200):
         x = ga.ask()
         ga.tell(-np.sum(x**2, axis=1))
@@ -33,13 +34,14 @@ Example::
 from __future__ import annotations
 
 import dataclasses
+import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any, ClassVar, Literal
 
 import numpy as np
 
-from locustjump.evo.base import check_fitness, rng_from_state, rng_state
+from locustjump.evo.base import Optimizer, rng_from_state, rng_state
 
 #: Bound on every gene-scale setting: a tanh network saturates long before.
 MAX_GENE_SCALE = 1.0e6
@@ -184,20 +186,24 @@ def tournament(
 # --- the algorithm ------------------------------------------------------------
 
 
-class RCGA:
+class RCGA(Optimizer):
     """Ask/tell real-coded GA. Maximises.
 
     ``ask()`` returns the genomes to evaluate: the whole initial population in
     the first generation, afterwards only the ``population - elite`` new
     children (the elites keep their fitness). ``tell(fitness)`` takes their
-    fitness, in the same order.
+    fitness, in the same order. ``population`` and ``fitness`` are then the
+    whole population, sorted best first.
 
     Args:
       num_params: genes per genome.
       params: the settings.
-      rng: a ``numpy.random.Generator`` or a seed.
+      seed: the seed of ``self.rng``, which makes every random choice.
       init: optional (population, num_params) initial population; default
         uniform in ``[-init_scale, init_scale]``.
+      rng: deprecated (the README once showed ``rng=0``): an int
+        is the seed, a ``numpy.random.Generator`` (also accepted in place of
+        ``seed``) is used as is; use ``seed``.
     """
 
     Params: ClassVar[type] = RCGAParams
@@ -206,21 +212,30 @@ class RCGA:
         self,
         num_params: int,
         params: RCGAParams = RCGAParams(),
-        rng: np.random.Generator | int = 0,
+        seed: int = 0,
         init: np.ndarray | None = None,
+        *,
+        rng: np.random.Generator | int | None = None,
     ):
-        if num_params < 1:
-            raise ValueError(f"num_params must be >= 1, got {num_params}")
-        self.num_params = int(num_params)
-        self.params = params
-        self.rng = (
-            rng if isinstance(rng, np.random.Generator) else np.random.default_rng(rng)
-        )
-        self.generation = 0  # completed tell() calls
-        # sorted best-first after each tell()
-        self.population = np.empty((0, num_params))
-        self.fitness = np.empty(0)
-        self._asked: np.ndarray | None = None
+        if isinstance(seed, np.random.Generator):  # the old positional rng
+            seed, rng = 0, seed
+        given = None
+        if rng is not None:
+            warnings.warn(
+                "RCGA's rng argument is deprecated: pass seed=... (an int)",
+                DeprecationWarning,
+                stacklevel=2,
+            )
+            if seed != 0:
+                raise TypeError("RCGA: pass seed, not both seed and rng")
+            if isinstance(rng, np.random.Generator):
+                given = rng
+            else:
+                seed = rng
+        super().__init__(num_params, params, seed)
+        if given is not None:
+            self.rng = given  # used as is, as before
+        self.population = np.empty((0, self.num_params))
         self._init = None if init is None else np.array(init, dtype=np.float64)
         if self._init is not None and self._init.shape != (
             params.population,
@@ -231,50 +246,23 @@ class RCGA:
                 f"({params.population}, {num_params})"
             )
 
-    # -- ask/tell --
-
-    def ask(self) -> np.ndarray:
-        """Genomes to evaluate next, (n, num_params)."""
-        if self._asked is not None:
-            return self._asked.copy()
+    def _ask(self) -> np.ndarray:
         p = self.params
-        if self.generation == 0:
-            if self._init is not None:
-                x = self._init.copy()
-            else:
-                x = self.rng.uniform(
-                    -p.init_scale, p.init_scale, size=(p.population, self.num_params)
-                )
-        else:
-            x = self._children(p.population - p.elite)
-        self._asked = x
-        return x.copy()
+        if self.generation > 0:
+            return self._children(p.population - p.elite)
+        if self._init is not None:
+            return self._init.copy()
+        return self.rng.uniform(
+            -p.init_scale, p.init_scale, size=(p.population, self.num_params)
+        )
 
-    def tell(self, fitness: np.ndarray) -> None:
-        """Fitness (n,) of the genomes of the last :meth:`ask`, same order."""
-        if self._asked is None:
-            raise RuntimeError("tell() without a pending ask()")
-        f = check_fitness(fitness, self._asked.shape[0])
+    def _tell(self, genomes: np.ndarray, fitness: np.ndarray) -> np.ndarray:
         e = self.params.elite if self.generation > 0 else 0
-        pop = np.concatenate([self.population[:e], self._asked])
-        fit = np.concatenate([self.fitness[:e], f])
+        pop = np.concatenate([self.population[:e], genomes])
+        fit = np.concatenate([self.fitness[:e], fitness])
         order = np.argsort(-fit, kind="stable")  # elites win ties: they come first
-        self.population, self.fitness = pop[order], fit[order]
-        self._asked = None
-        self.generation += 1
-
-    @property
-    def best(self) -> np.ndarray:
-        """Best genome so far (elitism keeps it in the population)."""
-        return self.population[0].copy()
-
-    @property
-    def best_fitness(self) -> float:
-        return float(self.fitness[0])
-
-    def stop(self) -> str | None:
-        """The RCGA runs its whole budget: never a reason to stop."""
-        return None
+        self.population = pop[order]
+        return fit[order]
 
     # -- variation --
 
@@ -298,24 +286,17 @@ class RCGA:
 
     # -- checkpointing --
 
-    def state(self) -> dict[str, np.ndarray]:
-        """Arrays that restore this GA exactly (for an ``.npz`` checkpoint)."""
-        if self._asked is not None:
-            raise RuntimeError("checkpoint between generations (after tell())")
+    def _state(self) -> dict[str, np.ndarray]:
         return {
-            "generation": np.array(self.generation),
             "population": self.population.copy(),
             "fitness": self.fitness.copy(),
             "rng_state": rng_state(self.rng),
         }
 
-    def load_state(self, state: Mapping[str, np.ndarray]) -> None:
-        """Inverse of :meth:`state` (``ValueError`` on inconsistent data)."""
+    def _set_state(self, state: Mapping[str, np.ndarray]) -> None:
         self.rng = rng_from_state(state["rng_state"])
-        self.generation = int(state["generation"])
         self.population = np.array(state["population"], dtype=np.float64)
         self.fitness = np.array(state["fitness"], dtype=np.float64)
-        self._asked = None
         n = self.params.population
         if self.generation < 1 or self.population.shape != (n, self.num_params):
             raise ValueError(
@@ -324,12 +305,6 @@ class RCGA:
             )
         if self.fitness.shape != (n,) or np.isnan(self.fitness).any():
             raise ValueError("fitness has the wrong shape or contains NaN")
-
-    @classmethod
-    def from_state(
-        cls, num_params: int, params: RCGAParams, state: Mapping[str, np.ndarray]
-    ) -> RCGA:
-        """A GA restored from :meth:`state`."""
-        ga = cls(num_params, params)
-        ga.load_state(state)
-        return ga
+        # elitism keeps the best so far first (without elites: the best of
+        # the last generation, all that the state holds)
+        self._set_best(self.population[0], self.fitness[0])

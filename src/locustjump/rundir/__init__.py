@@ -7,6 +7,7 @@ A **run** (``locustjump train``)::
     DIR/checkpoint.npz   the optimizer's state after the last generation
     DIR/best.npz         the best genome so far
     DIR/fitness.png      best and mean fitness per generation
+    DIR/stop.json        why the optimizer stopped before the budget, if it did
     DIR/frozen.npz       behaviours built on frozen runs (composed): their genomes
                          (``simple.npz`` in runs made before config format 2)
     DIR/eval/            ``locustjump evaluate``: trajectories, figures, metrics.json
@@ -61,6 +62,7 @@ from locustjump.rundir.run import (
     generations_done,
     load_config,
     load_run,
+    metrics_extra_columns,
     metrics_line,
     read_checkpoint,
     read_metrics,

@@ -9,6 +9,7 @@ METRICS = "metrics.csv"
 CHECKPOINT = "checkpoint.npz"
 BEST = "best.npz"
 FITNESS_PNG = "fitness.png"
+STOP = "stop.json"  # why the optimizer stopped before the budget, if it did
 FROZEN = "frozen.npz"  # the frozen genomes a behaviour builds on
 EVAL = "eval"  # directory
 EVAL_METRICS = "metrics.json"  # in EVAL
@@ -26,6 +27,8 @@ SEEDS_MARKER = "seeds.toml"  # ... a reproduction over several seeds
 RESULTS = "results.md"
 FORMAT = 1  # version of checkpoint.npz / best.npz
 
+#: the columns of every metrics.csv; an optimizer's diagnostics follow them
+#: (CMA-ES: sigma, condition), named in the header
 METRICS_COLUMNS = (
     "generation",
     "best",

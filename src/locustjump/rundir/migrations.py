@@ -20,6 +20,11 @@ The config hash is the identity of an experiment, so it is computed on the
 table as version 1 spelled it (:func:`hashed_config`): every run keeps its
 hash whatever version reads it.
 
+``checkpoint.npz``, ``best.npz``, ``frozen.npz`` (``format``, :data:`~.layout.FORMAT`,
+checked by :func:`npz_format`): a checkpoint written before optimizers were
+pluggable names no optimizer and holds the RCGA's state unprefixed
+(:func:`checkpoint_state`).
+
 ``reproduce.toml``: keys added later take the value their absence meant
 (:func:`reproduction_marker`). ``summary.json`` of a rule-based run: the
 engine under ``model`` as above (:func:`rules_summary`). The frozen genomes
@@ -32,8 +37,10 @@ import copy
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from locustjump.errors import UserError
-from locustjump.rundir.layout import FROZEN
+from locustjump.rundir.layout import FORMAT, FROZEN
 
 #: version of ``config.toml`` this locustjump writes
 CONFIG_FORMAT = 2
@@ -43,6 +50,11 @@ FROZEN_BEFORE = "simple.npz"
 ENGINE_BEFORE = "numpy"
 #: ``reproduce.toml`` keys added later, and what their absence means
 MARKER_BEFORE = {"optimizer": "rcga", "engine": ENGINE_BEFORE}
+#: keys of the optimizer's state in a checkpoint, prefixed so they never clash
+#: with the run's
+STATE_PREFIX = "opt_"
+#: what checkpoints written before optimizers were pluggable hold (the RCGA's)
+RCGA_STATE_BEFORE = ("generation", "population", "fitness", "rng_state")
 #: ``[model]`` fields added after runs were shipped: in the hash only when not
 #: at their default (the creature those runs used)
 MODEL_FIELDS_LATER = ("strut_stiffness", "strut_damping", "strut_swing")
@@ -125,6 +137,38 @@ def hashed_config(
             if d["options"][name] == value:
                 del d["options"][name]
     return d
+
+
+def npz_format(z: dict[str, np.ndarray], path: Path) -> int:
+    """The format version of a run's ``.npz`` file (``UserError`` if it is not
+    one this locustjump reads)."""
+    try:
+        v = int(z["format"])
+    except (KeyError, TypeError, ValueError):
+        raise UserError(f"{path}: no format version") from None
+    if not 1 <= v <= FORMAT:
+        raise UserError(
+            f"{path}: format {v}, not one this locustjump reads (1 to {FORMAT}); "
+            "a newer locustjump wrote it?"
+        )
+    return v
+
+
+def checkpoint_optimizer(z: dict[str, np.ndarray]) -> str:
+    """The optimizer kind a checkpoint was written by."""
+    return str(z.get("optimizer", "rcga"))
+
+
+def checkpoint_state(z: dict[str, np.ndarray], path: Path) -> dict[str, np.ndarray]:
+    """The optimizer's state in a checkpoint."""
+    npz_format(z, path)
+    if "optimizer" in z:
+        n = len(STATE_PREFIX)
+        return {k[n:]: v for k, v in z.items() if k.startswith(STATE_PREFIX)}
+    missing = [k for k in RCGA_STATE_BEFORE if k not in z]
+    if missing:
+        raise UserError(f"{path}: missing {', '.join(missing)}")
+    return {k: z[k] for k in RCGA_STATE_BEFORE}
 
 
 def reproduction_marker(table: dict[str, Any]) -> dict[str, Any]:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import dataclasses
 import hashlib
 import os
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -28,7 +29,13 @@ from locustjump.rundir.layout import (
     METRICS_COLUMNS,
     is_run,
 )
-from locustjump.rundir.migrations import frozen_path
+from locustjump.rundir.migrations import (
+    STATE_PREFIX,
+    checkpoint_optimizer,
+    checkpoint_state,
+    frozen_path,
+    npz_format,
+)
 from locustjump.tasks import behaviour_class, get_behaviour
 
 # --- config ---------------------------------------------------------------------
@@ -88,6 +95,7 @@ class BestGenome:
             path,
             ("format", "genome", "fitness", "generation", "behaviour", "config_hash"),
         )
+        npz_format(z, path)
         try:
             best = cls(
                 np.asarray(z["genome"], dtype=np.float64),
@@ -193,6 +201,7 @@ class FrozenGenomes:
     @classmethod
     def load(cls, path: Path, required: tuple[str, ...], num_params: int):
         z = load_npz(path, ("format", "behaviours", "genomes", "sources", "hashes"))
+        npz_format(z, path)
         if tuple(str(b) for b in z["behaviours"]) != tuple(required):
             raise UserError(f"{path}: not the genomes of {', '.join(required)}")
         g = np.asarray(z["genomes"], dtype=np.float64)
@@ -256,10 +265,6 @@ _CHECKPOINT_KEYS = (
     "best_generation",
     "metrics_row",
 )
-#: keys of the optimizer's own state, prefixed so they never clash with ours
-_STATE_PREFIX = "opt_"
-#: what checkpoints written before optimizers were pluggable hold (the RCGA's)
-_RCGA_V0_STATE = ("generation", "population", "fitness", "rng_state")
 
 
 def write_checkpoint(
@@ -277,20 +282,21 @@ def write_checkpoint(
         best_fitness=np.array(best.fitness),
         best_generation=np.array(best.generation),
         metrics_row=np.array(metrics_row),
-        **{_STATE_PREFIX + k: v for k, v in state.items()},
+        **{STATE_PREFIX + k: v for k, v in state.items()},
     )
 
 
 def read_checkpoint(path: Path, cfg, num_params: int):
     """``(best, metrics_row, state)`` of ``checkpoint.npz``, checked against the
-    configuration ``cfg`` (``UserError`` naming the file). Checkpoints written
-    before optimizers were pluggable name none: they are the RCGA's."""
+    configuration ``cfg`` (``UserError`` naming the file); older checkpoints
+    through :mod:`~locustjump.rundir.migrations`."""
     z = load_npz(path, _CHECKPOINT_KEYS)
+    state = checkpoint_state(z, path)
     if str(z["behaviour"]) != cfg.behaviour:
         raise UserError(
             f"{path}: holds a {str(z['behaviour'])!r} run, not {cfg.behaviour!r}"
         )
-    kind = str(z.get("optimizer", "rcga"))
+    kind = checkpoint_optimizer(z)
     if kind != cfg.optimizer.kind:
         raise UserError(
             f"{path}: was written by the {kind!r} optimizer, the run's "
@@ -310,14 +316,6 @@ def read_checkpoint(path: Path, cfg, num_params: int):
     )
     if best.genome.shape != (num_params,):
         raise UserError(f"{path}: best_genome has the wrong length")
-    if "optimizer" in z:
-        n = len(_STATE_PREFIX)
-        state = {k[n:]: v for k, v in z.items() if k.startswith(_STATE_PREFIX)}
-    else:
-        missing = [k for k in _RCGA_V0_STATE if k not in z]
-        if missing:
-            raise UserError(f"{path}: missing {', '.join(missing)}")
-        state = {k: z[k] for k in _RCGA_V0_STATE}
     return best, str(z["metrics_row"]), state
 
 
@@ -339,17 +337,38 @@ def generations_done(run: Path) -> int:
     return int(m["generation"][-1]) if len(m) else 0
 
 
-def metrics_line(row: list, wall: float, rate: float) -> str:
+def metrics_line(
+    row: list, wall: float, rate: float, diagnostics: Sequence[float] = ()
+) -> str:
+    """One row of metrics.csv: ``row`` is generation, best, mean, std,
+    evaluations, control steps; ``diagnostics`` the optimizer's extra columns."""
     g, best, mean, std, evaluations, steps = row
     cols = [g, best, mean, std, round(wall, 4), evaluations, steps, round(rate, 1)]
-    return ",".join(map(str, cols)) + "\n"
+    return ",".join(map(str, [*cols, *diagnostics])) + "\n"
 
 
-def truncate_metrics(path: Path, generation: int, last_row: str) -> None:
-    """Keep the header and the rows of generations 1..``generation``; the row of
+def metrics_extra_columns(path: Path) -> tuple[str, ...] | None:
+    """The optimizer's columns after :data:`METRICS_COLUMNS` in the header of
+    metrics.csv ``path``; ``None`` if it has no such header (absent, empty,
+    damaged). Files written before diagnostics existed have none: ``()``."""
+    try:
+        with open(path) as f:
+            first = f.readline()
+    except FileNotFoundError:
+        return None
+    names = tuple(first.strip().split(","))
+    n = len(METRICS_COLUMNS)
+    return names[n:] if first.endswith("\n") and names[:n] == METRICS_COLUMNS else None
+
+
+def truncate_metrics(
+    path: Path, generation: int, last_row: str, extra: Sequence[str] = ()
+) -> None:
+    """Keep the header (:data:`METRICS_COLUMNS` and the optimizer's ``extra``
+    columns) and the rows of generations 1..``generation``; the row of
     ``generation`` itself is ``last_row`` (from the checkpoint) if missing."""
     lines = path.read_text().splitlines(keepends=True) if path.exists() else []
-    header = ",".join(METRICS_COLUMNS) + "\n"
+    header = ",".join((*METRICS_COLUMNS, *extra)) + "\n"
     keep = []
     for n, ln in enumerate(lines[1:], start=2):
         if not ln.strip():

@@ -234,13 +234,14 @@ def start_reproduction(
 
 
 def stage_done(out: Path, stage: str, b: Budget) -> bool:
-    """Whether ``stage`` of reproduction ``out`` is trained and evaluated."""
+    """Whether ``stage`` of reproduction ``out`` is trained (its budget done,
+    or its optimizer stopped early) and evaluated."""
     d = out / stage
     if stage == rundir.RULES_DIR:
         return (d / rundir.RULES_SUMMARY).is_file()
-    return rundir.eval_metrics_path(d).is_file() and rundir.generations_done(d) >= b.of(
-        stage
-    )
+    if not rundir.eval_metrics_path(d).is_file():
+        return False
+    return (d / rundir.STOP).is_file() or rundir.generations_done(d) >= b.of(stage)
 
 
 def run_stage(
@@ -279,7 +280,12 @@ def run_stage(
         )
     resume = rundir.is_run(d)
     log(f"[{stage}] {'resuming' if resume else 'training'}: {gens} generations")
-    train(cfg, d, resume=resume, backend=backend, progress=progress, frozen=frozen)
+    res = train(
+        cfg, d, resume=resume, backend=backend, progress=progress, frozen=frozen
+    )
+    if res.stopped:
+        why = ", ".join(f"{k} {v}" for k, v in res.stopped.items())
+        log(f"[{stage}] the optimizer stopped at generation {res.generation}: {why}")
     t0 = time.perf_counter()
     ev = evaluate_run(d, backend=backend)
     run_cfg, beh, best = rundir.load_run(d)

@@ -17,9 +17,9 @@ from __future__ import annotations
 
 import os
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from tqdm.auto import tqdm
@@ -46,7 +46,9 @@ class TrainResult:
     generation: int  # generations completed
     best: BestGenome
     wall_s: float  # wall time of this call
-    stopped: str | None = None  # why the optimizer stopped before the budget
+    #: why the optimizer stopped before the budget (``Optimizer.stop()``,
+    #: also in ``DIR/stop.json``); empty if it did not
+    stopped: dict[str, Any] = field(default_factory=dict)
 
 
 class _Run:
@@ -59,6 +61,8 @@ class _Run:
         self.opt: Optimizer = make_optimizer(cfg.optimizer, self.num_params, cfg.seed)
         self.best: BestGenome | None = None
         self.metrics_row = ""  # of the checkpointed generation
+        # the optimizer's columns in metrics.csv (a resumed run keeps its own)
+        self.diagnostics = tuple(self.opt.diagnostics())
 
     def checkpoint(self, metrics_row: str) -> None:
         assert self.best is not None
@@ -179,7 +183,7 @@ def _create(run: _Run, frozen: FrozenGenomes | None) -> None:
     if run.beh.requires:
         frozen.save(run.out / rundir.FROZEN)
     rundir.write_config(run.out / rundir.CONFIG, run.cfg)
-    rundir.truncate_metrics(run.out / rundir.METRICS, 0, "")
+    rundir.truncate_metrics(run.out / rundir.METRICS, 0, "", run.diagnostics)
 
 
 def _resume(out: Path, cfg: TrainConfig, builds_on: bool) -> _Run:
@@ -212,10 +216,32 @@ def _resume(out: Path, cfg: TrainConfig, builds_on: bool) -> _Run:
             f"--generations {cfg.generations}: the run in {out} has already done "
             f"{run.opt.generation} (a run can be extended, not shortened)"
         )
-    rundir.truncate_metrics(out / rundir.METRICS, run.opt.generation, run.metrics_row)
+    _keep_metrics_columns(run)
+    rundir.truncate_metrics(
+        out / rundir.METRICS, run.opt.generation, run.metrics_row, run.diagnostics
+    )
     if stored.generations != cfg.generations:
         rundir.write_config(out / rundir.CONFIG, cfg)
     return run
+
+
+def _keep_metrics_columns(run: _Run) -> None:
+    """A resumed run goes on with the columns its metrics.csv has (one
+    started before its optimizer had diagnostics has none, and so has the
+    checkpoint's metrics row if the file is gone)."""
+    path = run.out / rundir.METRICS
+    columns = rundir.metrics_extra_columns(path)
+    if columns is None:
+        if run.metrics_row.count(",") + 1 == len(rundir.METRICS_COLUMNS):
+            run.diagnostics = ()
+        return
+    unknown = [c for c in columns if c not in run.diagnostics]
+    if unknown:
+        raise UserError(
+            f"{path}: column {unknown[0]!r} is not a diagnostic of the "
+            f"{run.cfg.optimizer.kind!r} optimizer"
+        )
+    run.diagnostics = columns
 
 
 def _loop(
@@ -233,12 +259,12 @@ def _loop(
         dynamic_ncols=True,
     )
     done = 0
-    stopped = opt.stop() if opt.generation else None
+    stopped = opt.stop() if opt.generation else {}
     failed = True
     metrics = run.out / rundir.METRICS
     try:
         while (
-            stopped is None
+            not stopped
             and opt.generation < cfg.generations
             and (stop_after is None or done < stop_after)
         ):
@@ -257,16 +283,20 @@ def _loop(
             # floats as shortest round-trip text: the CSV holds exact values
             row = [g, float(f[int(np.argmax(f))]), float(f.mean()), float(f.std())]
             row += [len(x), res.control_steps]
+            d = opt.diagnostics()
+            diag = [d[k] for k in run.diagnostics]
             # the checkpoint carries its own metrics row (a kill between the
             # two writes loses nothing); wall time covers the whole
             # generation but for this last small write
             wall = time.perf_counter() - t0
-            run.checkpoint(rundir.metrics_line(row, wall, res.control_steps / wall))
+            run.checkpoint(
+                rundir.metrics_line(row, wall, res.control_steps / wall, diag)
+            )
             wall = time.perf_counter() - t0
             rate = res.control_steps / wall
             # the checkpoint already holds this row: a failed append loses
             # nothing (resume restores it)
-            rundir.append_line(metrics, rundir.metrics_line(row, wall, rate))
+            rundir.append_line(metrics, rundir.metrics_line(row, wall, rate, diag))
             done += 1
             stopped = opt.stop()
             bar.set_postfix(
@@ -276,6 +306,11 @@ def _loop(
                 refresh=False,
             )
             bar.update(1)
+        if stopped:
+            rundir.write_json(
+                run.out / rundir.STOP,
+                {"generation": opt.generation, "reasons": stopped},
+            )
         failed = False
     finally:
         bar.close()
