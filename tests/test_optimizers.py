@@ -26,7 +26,7 @@ from locustjump.evo import (
     rng_state,
 )
 from locustjump.rundir.config import TrainConfig
-from locustjump.runs.reproduce import Budget, stage_done
+from locustjump.runs.reproduction import Budget, Reproduction
 from locustjump.runs.trainer import train
 
 KINDS = {"rcga": RCGAParams, "cma": CMAParams, "random": RandomSearchParams}
@@ -331,9 +331,10 @@ def test_an_early_stop_is_saved_and_shown(tmp_path, monkeypatch, capsys):
     # a reproduction's stage that stopped early is done once evaluated
     rundir.eval_metrics_path(out).parent.mkdir()
     rundir.write_json(rundir.eval_metrics_path(out), {})
-    assert stage_done(tmp_path, "kick", TINY)
+    rep = Reproduction(tmp_path, TINY, (0,))
+    assert rep.stage_done("kick")
     (out / rundir.STOP).unlink()
-    assert not stage_done(tmp_path, "kick", TINY)
+    assert not rep.stage_done("kick")
     # a run that goes on to its budget has no stop.json
     done = train(cfg.replace(optimizer=RandomSearchParams(4)), tmp_path / "b",
                  progress=False)  # fmt: skip

@@ -17,7 +17,7 @@ from locustjump.present.rules import write_rules_run
 from locustjump.present.stages import reporter_of
 from locustjump.present.stages.getup import sweep_run
 from locustjump.runs.multiseed import reproduce_seeds
-from locustjump.runs.reproduce import replay, reproduce, single_seed_command
+from locustjump.runs.reproduce import replay, reproduce
 from locustjump.runs.trainer import train
 from locustjump.sim import model as lm
 from locustjump.sim.engine.backends import make_backend
@@ -161,26 +161,13 @@ def cmd_reproduce(args: argparse.Namespace) -> int:
                 "--actors is for one seed; with --seeds every stage is a Ray task "
                 "(--threads CPUs each)"
             )
-        opt = "" if args.optimizer == "rcga" else f" --optimizer {args.optimizer}"
-        opt += "" if args.engine is None else f" --engine {args.engine}"
-        seeds = ",".join(map(str, args.seeds))
         path = reproduce_seeds(
             args.out, args.seeds, backend=args.backend, threads=args.threads,
             address=args.address, **common,
-            command=f"locustjump reproduce --budget {args.budget} --seeds {seeds}"
-            f"{opt} --backend {args.backend} --out {args.out}",
         )  # fmt: skip
         print(path.read_text().split("## Best fitness")[0].rstrip())
         return 0
-    path = reproduce(
-        args.out,
-        seed=args.seed,
-        backend=_backend(args),
-        command=single_seed_command(
-            args.budget, args.seed, args.optimizer, args.out, args.engine
-        ),
-        **common,
-    )
+    path = reproduce(args.out, seed=args.seed, backend=_backend(args), **common)
     print(path.read_text().split("## Beyond")[0].rstrip())
     return 0
 

@@ -36,27 +36,12 @@ from tqdm.auto import tqdm
 
 from locustjump import rundir
 from locustjump.errors import UserError
-from locustjump.evo import params_class
 from locustjump.present.report import write_report
 from locustjump.present.results import minutes, seeds_markdown
-from locustjump.runs.reproduce import (
-    TRAINED,
-    Budget,
-    budget_of,
-    check_reproduction,
-    finish_reproduction,
-    reproduce,
-    run_stage,
-    single_seed_command,
-    stage_done,
-    stages_of,
-    start_reproduction,
-)
+from locustjump.runs.reproduce import finish_reproduction, reproduce
+from locustjump.runs.reproduction import Budget, Reproduction, requires, stages_of
 from locustjump.sim.engine.backends import ThreadBackend
-from locustjump.sim.engine.job import DEFAULT_ENGINE
 from locustjump.sim.engine.ray_backend import connect
-from locustjump.tasks import behaviour_class
-from locustjump.version import __version__
 
 if TYPE_CHECKING:
     from locustjump.sim.engine.backends import Backend
@@ -91,29 +76,6 @@ def parse_seeds(text: str) -> list[int]:
     return seeds
 
 
-def _check_dir(out: Path, want: dict[str, Any]) -> None:
-    if out.exists() and not out.is_dir():
-        raise UserError(f"--out {out}: exists and is not a directory")
-    if rundir.is_multiseed(out):
-        have = rundir.read_toml(out / rundir.SEEDS_MARKER)
-        for k, v in want.items():
-            if have.get(k) != v:
-                raise UserError(
-                    f"--out {out}: holds a reproduction over seeds with {k} "
-                    f"{have.get(k)!r}, not {v!r} (choose another --out)"
-                )
-    elif rundir.is_reproduction(out):
-        raise UserError(
-            f"--out {out}: holds a single-seed reproduction; give --seeds another "
-            "--out (or continue this one with --seed)"
-        )
-    elif out.is_dir() and any(out.iterdir()):
-        raise UserError(
-            f"--out {out}: directory is not empty and holds no reproduction "
-            f"(no {rundir.SEEDS_MARKER}); choose another --out"
-        )
-
-
 def reproduce_seeds(
     out: str | os.PathLike,
     seeds: Sequence[int],
@@ -138,69 +100,39 @@ def reproduce_seeds(
     or ``"ray"`` (every stage a task on the cluster at ``address``, default a
     local instance, ``threads`` CPUs each). ``engine``: as for
     :func:`~locustjump.runs.reproduce.reproduce`. A rerun may add seeds."""
-    b = budget_of(budget)
-    params_class(optimizer)
-    seeds = [int(s) for s in seeds]
-    if not seeds or len(set(seeds)) != len(seeds) or min(seeds) < 0:
-        raise UserError(f"--seeds: need distinct non-negative seeds, got {seeds}")
     if backend not in ("threads", "ray"):
         raise UserError(f"unknown backend {backend!r}; choose from threads, ray")
-    out = Path(out)
-    if engine is None and rundir.is_multiseed(out):
-        engine = rundir.read_toml(out / rundir.SEEDS_MARKER).get("engine")
-    engine = engine or DEFAULT_ENGINE
-    want = {"budget": b.name, "optimizer": optimizer, "engine": engine,
-            "population": b.population}  # fmt: skip
-    _check_dir(out, want)
-    for s in seeds:
-        check_reproduction(rundir.seed_dir(out, s), b, s, optimizer, engine)
+    rep = Reproduction.open(
+        out, budget, seeds, optimizer=optimizer, engine=engine, many=True
+    )
     ray = None
     if backend == "ray":
         ray = connect(address)
         threads = _task_threads(ray, threads)
 
     here = ThreadBackend(threads)
-    old = (
-        rundir.read_toml(out / rundir.SEEDS_MARKER)["seeds"]
-        if rundir.is_multiseed(out)
-        else []
-    )
-    out.mkdir(parents=True, exist_ok=True)
+    rep.out.mkdir(parents=True, exist_ok=True)
     with contextlib.ExitStack() as held:
-        held.enter_context(rundir.locked(out))
-        _check_dir(out, want)
-        rundir.write_toml(
-            out / rundir.SEEDS_MARKER,
-            {
-                **want,
-                "seeds": sorted({*old, *seeds}),
-                "generations": {s: b.of(s) for s in TRAINED},
-                "command": command
-                or f"locustjump reproduce --budget {b.name} --seeds "
-                f"{','.join(map(str, seeds))} --out {out}",
-                "locustjump": __version__,
-            },
-        )
-        dirs = {s: rundir.seed_dir(out, s) for s in seeds}
-        for s, d in dirs.items():
-            d.mkdir(exist_ok=True)
-            held.enter_context(rundir.locked(d))
-            alone = single_seed_command(b.name, s, optimizer, d, engine)
-            start_reproduction(d, b, s, optimizer, alone, engine)
+        held.enter_context(rundir.locked(rep.out))
+        rep.check()  # another process may have been first
+        for s in rep.seeds:
+            rep.seed_dir(s).mkdir(exist_ok=True)
+            held.enter_context(rundir.locked(rep.seed_dir(s)))
+        rep.start(command or rep.command(backend))
         if ray is None:
-            for i, (s, d) in enumerate(dirs.items(), 1):
-                log(f"[seed {s}] {i} of {len(dirs)} seeds, on this machine")
+            for i, s in enumerate(rep.seeds, 1):
+                log(f"[seed {s}] {i} of {len(rep.seeds)} seeds, on this machine")
                 reproduce(
-                    d, budget=b, seed=s, optimizer=optimizer, backend=here,
+                    rep.seed_dir(s), budget=rep.budget, seed=s,
+                    optimizer=rep.optimizer, engine=rep.engine, backend=here,
                     progress=progress, log=lambda m, s=s: log(f"[seed {s}] {m}"),
                     videos=videos, monolithic=monolithic,
                 )  # fmt: skip
-                _write_results(out, here)
+                _write_results(rep.out, here)
         else:
-            _run_on_ray(ray, out, dirs, b, optimizer, threads, monolithic,
-                        here, progress, log, videos)  # fmt: skip
-        path = _write_results(out, here)
-        log(f"wrote {path} and {out / rundir.REPORT}")
+            _run_on_ray(ray, rep, threads, monolithic, here, progress, log, videos)
+        path = _write_results(rep.out, here)
+        log(f"wrote {path} and {rep.out / rundir.REPORT}")
         return path
 
 
@@ -225,45 +157,39 @@ def _task_threads(ray: Any, threads: int | None) -> int:
 
 
 def _stage_task(
-    out: str,
-    stage: str,
-    b: Budget,
-    seed: int,
-    optimizer: str,
-    threads: int,
-    *_inputs: Any,
+    rep: Reproduction, seed: int, stage: str, threads: int, *_inputs: Any
 ) -> tuple[float | None, float]:
     """One (seed, stage) on a Ray worker; ``_inputs`` are the tasks it waits for."""
 
-    d = Path(out)
+    d = rep.seed_dir(seed)
     if not rundir.is_reproduction(d):
         raise UserError(
             f"{d}: not visible on this node (on a cluster, --out must be on a "
             "file system every node sees)"
         )
     t0 = time.perf_counter()
-    fitness = run_stage(d, stage, b, seed, optimizer, ThreadBackend(threads),
-                        log=lambda m: None)  # fmt: skip
+    with ThreadBackend(threads) as backend:
+        fitness = rep.run_stage(stage, backend, seed, log=lambda m: None)
     return fitness, time.perf_counter() - t0
 
 
-def _run_on_ray(ray, out, dirs, b, optimizer, threads, monolithic, here,
-                progress, log, videos) -> None:  # fmt: skip
+def _run_on_ray(ray, rep: Reproduction, threads, monolithic, here, progress, log,
+                videos) -> None:  # fmt: skip
     task = ray.remote(num_cpus=threads)(_stage_task)
     pending: dict[Any, tuple[int, str]] = {}
-    left = {s: 0 for s in dirs}
-    for s, d in dirs.items():
+    left = {s: 0 for s in rep.seeds}
+    for s in rep.seeds:
         refs: dict[str, Any] = {}
         for stage in stages_of(monolithic):
-            if stage_done(d, stage, b):
+            if rep.stage_done(stage, s):
                 continue
-            needs = [refs[r] for r in _requires(stage) if r in refs]
-            refs[stage] = task.remote(str(d), stage, b, s, optimizer, threads, *needs)
+            needs = [refs[r] for r in requires(stage) if r in refs]
+            refs[stage] = task.remote(rep, s, stage, threads, *needs)
             pending[refs[stage]] = (s, stage)
             left[s] += 1
 
     log(
-        f"{len(pending)} stage tasks over {len(dirs)} seeds on Ray "
+        f"{len(pending)} stage tasks over {len(rep.seeds)} seeds on Ray "
         f"({threads} CPUs each)"
     )
     bar = tqdm(total=len(pending), desc="stages", unit="stage", disable=not progress)
@@ -272,8 +198,10 @@ def _run_on_ray(ray, out, dirs, b, optimizer, threads, monolithic, here,
         while pending or done_seeds:
             for s in done_seeds:
                 tagged = lambda m, s=s: log(f"[seed {s}] {m}")  # noqa: E731
-                finish_reproduction(dirs[s], backend=here, videos=videos, log=tagged)
-                _write_results(out, here)
+                finish_reproduction(
+                    rep.seed_dir(s), backend=here, videos=videos, log=tagged
+                )
+                _write_results(rep.out, here)
             done_seeds = []
             if not pending:
                 break
@@ -293,13 +221,6 @@ def _run_on_ray(ray, out, dirs, b, optimizer, threads, monolithic, here,
                 done_seeds.append(s)
     finally:
         bar.close()
-
-
-def _requires(stage: str) -> tuple[str, ...]:
-    """The stages ``stage`` builds on (none for the rule-based one)."""
-    if stage == rundir.RULES_DIR:
-        return ()
-    return tuple(behaviour_class(stage).requires)
 
 
 def _write_results(out: Path, backend: Backend) -> Path:
