@@ -227,7 +227,7 @@ def test_switch_every_option_and_kick_variants(simple_runs, tmp_path, capsys, pa
     capsys.readouterr()
     resume = ["train", "composed", "--resume", "--out", str(out)]
     assert main([*resume, "--switch-every", "8"]) == 2
-    assert "--switch-every 8 differs" in capsys.readouterr().err
+    assert "options.switch_every 8 differs" in capsys.readouterr().err
     assert (
         main(["train", "kick", "--switch-every", "8", "--out", str(tmp_path / "k")])
         == 2

@@ -235,7 +235,7 @@ def test_resume_checks_what_the_directory_holds(full_run, tmp_path, capsys):
     code, err = run_cli(
         ["train", "kick", "--resume", "--seed", "9", "--out", str(full_run)], capsys
     )
-    assert code == 2 and "--seed 9 differs" in err
+    assert code == 2 and "seed 9 differs from the run's seed 5" in err
     # another behaviour's run: stored config says kick, the command says getup
     other = copy_run(full_run, tmp_path / "other")
     text = (other / rundir.CONFIG).read_text().replace('"kick"', '"nope"')
@@ -324,7 +324,7 @@ def test_score_substeps_takes_the_worst_resolution(tmp_path, capsys):
     capsys.readouterr()
     resume = ["train", "kick", "--resume", "--out", str(robust)]
     assert main([*resume, "--score-substeps", "6"]) == 2
-    assert "--score-substeps 6 differs from the run's score-substeps 6,12" in (
+    assert "score_substeps 6 differs from the run's options.score_substeps 6,12" in (
         capsys.readouterr().err
     )
     for bad in ("0", "6,6", "6,x"):

@@ -37,7 +37,7 @@ from locustjump.evo import (
 from locustjump.present.evaluate import evaluate_run
 from locustjump.rundir import load_run
 from locustjump.rundir.config import TrainConfig
-from locustjump.runs.trainer import train
+from locustjump.runs.trainer import Trainer, train
 from locustjump.sim.controller import MLP, Controller
 from locustjump.sim.engine.backends import ThreadBackend, make_backend
 from locustjump.sim.engine.episode import reference_rollout
@@ -93,5 +93,6 @@ __all__ = [
     "rollout",
     "run_rules",
     "to_mjcf",
+    "Trainer",
     "train",
 ]

@@ -27,40 +27,22 @@ def resolve_config(
     score_substeps: tuple[int, ...] | None = None,
 ) -> TrainConfig:
     """The configuration ``locustjump train`` runs: a resumed run's own
-    ``config.toml`` (options may only extend ``generations``), or the defaults,
-    overridden by a ``config`` file and then by the options given."""
+    ``config.toml``, or the defaults overridden by a ``config`` file, and then
+    by the options given (resuming, :func:`~locustjump.runs.trainer.train`
+    refuses any that differ from the run's but ``generations``, which may
+    extend it)."""
 
-    if resume:
+    if resume:  # the run's own config; the trainer checks what differs
         if config is not None:
             raise UserError("--resume reads the run's own config.toml; drop --config")
         path = Path(out) / rundir.CONFIG
         if not path.is_file():
             raise UserError(f"--resume: {out} holds no run (no {rundir.CONFIG})")
         cfg = rundir.load_config(path)
-        if cfg.behaviour != behaviour:
+        if cfg.behaviour != behaviour:  # the command's behaviour, not an option
             raise UserError(
                 f"--resume: {out} holds a {cfg.behaviour!r} run, not {behaviour!r}"
             )
-        have = {
-            "optimizer": cfg.optimizer.kind,
-            "seed": cfg.seed,
-            "population": cfg.population,
-            "engine": cfg.engine,
-            "switch-every": getattr(cfg.options, "switch_every", None),
-            "score-substeps": cfg.options.score_substeps,
-        }
-        given = {"optimizer": optimizer, "seed": seed, "population": population,
-                 "engine": engine, "switch-every": switch_every,
-                 "score-substeps": score_substeps}  # fmt: skip
-        for key, value in given.items():
-            if value not in (None, have[key]):
-                a, b = (
-                    ",".join(map(str, v)) or "none" if isinstance(v, tuple) else v
-                    for v in (value, have[key])
-                )  # fmt: skip
-                raise UserError(
-                    f"--{key} {a} differs from the run's {key} {b} ({path})"
-                )
     else:
         cfg = TrainConfig(behaviour=behaviour)
         if config is not None:
@@ -70,31 +52,32 @@ def resolve_config(
                     f"{config}: behaviour {cfg.behaviour!r} differs from the "
                     f"command's {behaviour!r}"
                 )
-        if optimizer is not None and optimizer != cfg.optimizer.kind:
-            try:
-                cfg = cfg.replace(optimizer=params_class(optimizer)())
-            except ValueError as e:
-                raise UserError(f"--optimizer: {e}") from None
-        if seed is not None:
-            cfg = cfg.replace(seed=seed)
-        if engine is not None:
-            cfg = cfg.replace(engine=engine)
-        if switch_every is not None:
-            if not hasattr(cfg.options, "switch_every"):
-                raise UserError(
-                    f"--switch-every: only the composed behaviour switches, "
-                    f"not {behaviour!r}"
-                )
-            opts = _checked("--switch-every", dataclasses.replace, cfg.options,
-                            switch_every=switch_every)  # fmt: skip
-            cfg = cfg.replace(options=opts)
-        if score_substeps is not None:
-            opts = _checked("--score-substeps", dataclasses.replace, cfg.options,
-                            score_substeps=score_substeps)  # fmt: skip
-            cfg = cfg.replace(options=opts)
-        if population is not None:
-            opt = _checked("--population", cfg.optimizer.replace, population=population)
-            cfg = cfg.replace(optimizer=opt)
+    # the options given, over either
+    if optimizer is not None and optimizer != cfg.optimizer.kind:
+        try:
+            cfg = cfg.replace(optimizer=params_class(optimizer)())
+        except ValueError as e:
+            raise UserError(f"--optimizer: {e}") from None
+    if seed is not None:
+        cfg = cfg.replace(seed=seed)
+    if engine is not None:
+        cfg = cfg.replace(engine=engine)
+    if switch_every is not None:
+        if not hasattr(cfg.options, "switch_every"):
+            raise UserError(
+                f"--switch-every: only the composed behaviour switches, "
+                f"not {behaviour!r}"
+            )
+        opts = _checked("--switch-every", dataclasses.replace, cfg.options,
+                        switch_every=switch_every)  # fmt: skip
+        cfg = cfg.replace(options=opts)
+    if score_substeps is not None:
+        opts = _checked("--score-substeps", dataclasses.replace, cfg.options,
+                        score_substeps=score_substeps)  # fmt: skip
+        cfg = cfg.replace(options=opts)
+    if population is not None:
+        opt = _checked("--population", cfg.optimizer.replace, population=population)
+        cfg = cfg.replace(optimizer=opt)
     if generations is not None:
         cfg = cfg.replace(generations=generations)
     return cfg

@@ -51,20 +51,33 @@ class TrainResult:
     stopped: dict[str, Any] = field(default_factory=dict)
 
 
-class _Run:
-    """A run directory being trained: the optimizer plus its files."""
+class Trainer:
+    """Evolves ``task``'s controllers with ``optimizer``, simulated on
+    ``backend``, into run directory ``run_dir`` whose configuration is
+    ``cfg`` (EvoJAX's ``Trainer(policy, solver, task)`` shape: the
+    collaborators are made by the caller, :func:`train`, and passed in).
+    :meth:`run` trains; a checkpoint after every generation makes it
+    resumable (:meth:`restore`)."""
 
-    def __init__(self, out: Path, cfg: TrainConfig, behaviour: Behaviour):
-        self.out, self.cfg, self.beh = out, cfg, behaviour
-        self.num_params = behaviour.controller.num_params
+    def __init__(
+        self,
+        task: Behaviour,
+        optimizer: Optimizer,
+        backend: Backend,
+        run_dir: str | os.PathLike,
+        cfg: TrainConfig,
+    ):
+        self.beh, self.opt, self.backend = task, optimizer, backend
+        self.out, self.cfg = Path(run_dir), cfg
+        self.num_params = task.controller.num_params
         self.hash = cfg.hash()
-        self.opt: Optimizer = make_optimizer(cfg.optimizer, self.num_params, cfg.seed)
         self.best: BestGenome | None = None
         self.metrics_row = ""  # of the checkpointed generation
         # the optimizer's columns in metrics.csv (a resumed run keeps its own)
         self.diagnostics = tuple(self.opt.diagnostics())
 
     def checkpoint(self, metrics_row: str) -> None:
+        """The optimizer's state, the best genome and this metrics row."""
         assert self.best is not None
         rundir.write_checkpoint(
             self.out / rundir.CHECKPOINT,
@@ -75,6 +88,7 @@ class _Run:
         )
 
     def restore(self) -> None:
+        """Back to the last checkpoint."""
         path = self.out / rundir.CHECKPOINT
         self.best, self.metrics_row, state = rundir.read_checkpoint(
             path, self.cfg, self.num_params
@@ -83,6 +97,90 @@ class _Run:
             self.opt.load_state(state)
         except (ValueError, KeyError, TypeError) as e:
             raise UserError(f"{path}: malformed checkpoint ({e})") from None
+
+    def run(
+        self, *, progress: bool = True, stop_after: int | None = None
+    ) -> TrainResult:
+        """Train to ``cfg.generations`` (``stop_after``: at most this many
+        generations in this call; the run stays resumable), or until the
+        optimizer stops; ``progress``: a progress bar on stderr."""
+        run, backend = self, self.backend
+        cfg, opt, beh, p = run.cfg, run.opt, run.beh, run.cfg.model
+        t_start = time.perf_counter()
+        bar = tqdm(
+            total=cfg.generations,
+            initial=opt.generation,
+            desc=f"{cfg.behaviour}",
+            unit="gen",
+            disable=not progress,
+            dynamic_ncols=True,
+        )
+        done = 0
+        stopped = opt.stop() if opt.generation else {}
+        failed = True
+        metrics = run.out / rundir.METRICS
+        try:
+            while (
+                not stopped
+                and opt.generation < cfg.generations
+                and (stop_after is None or done < stop_after)
+            ):
+                t0 = time.perf_counter()
+                x = opt.ask()
+                fit, res = beh.evaluate(x, p, backend=backend, engine=cfg.engine)
+                opt.tell(fit)
+                g = opt.generation
+                i = int(np.argmax(fit))
+                if run.best is None or fit[i] > run.best.fitness:
+                    run.best = BestGenome(
+                        x[i].copy(), float(fit[i]), g, cfg.behaviour, run.hash
+                    )
+                    run.best.save(run.out / rundir.BEST)
+                f = opt.fitness
+                # floats as shortest round-trip text: the CSV holds exact values
+                row = [g, float(f[int(np.argmax(f))]), float(f.mean()), float(f.std())]
+                row += [len(x), res.control_steps]
+                d = opt.diagnostics()
+                diag = [d[k] for k in run.diagnostics]
+                # the checkpoint carries its own metrics row (a kill between the
+                # two writes loses nothing); wall time covers the whole
+                # generation but for this last small write
+                wall = time.perf_counter() - t0
+                run.checkpoint(
+                    rundir.metrics_line(row, wall, res.control_steps / wall, diag)
+                )
+                wall = time.perf_counter() - t0
+                rate = res.control_steps / wall
+                # the checkpoint already holds this row: a failed append loses
+                # nothing (resume restores it)
+                rundir.append_line(metrics, rundir.metrics_line(row, wall, rate, diag))
+                done += 1
+                stopped = opt.stop()
+                bar.set_postfix(
+                    best=f"{row[1]:.4g}",
+                    mean=f"{row[2]:.4g}",
+                    steps_s=f"{rate:,.0f}",
+                    refresh=False,
+                )
+                bar.update(1)
+            if stopped:
+                rundir.write_json(
+                    run.out / rundir.STOP,
+                    {"generation": opt.generation, "reasons": stopped},
+                )
+            failed = False
+        finally:
+            bar.close()
+            if opt.generation > 0:
+                try:
+                    fitness_figure(run.out)
+                except UserError:
+                    if not failed:  # else the first error is the one to report
+                        raise
+        assert run.best is not None
+        return TrainResult(
+            run.out, opt.generation, run.best, time.perf_counter() - t_start, stopped
+        )
 
 
 def train(
@@ -128,19 +226,23 @@ def train(
         if not rundir.is_run(out):
             raise UserError(f"--resume: {out} holds no run (no {rundir.CONFIG})")
         with rundir.locked(out):
-            run = _resume(out, cfg, bool(cls.requires))
-            return _loop(run, backend, progress, stop_after)
-    run = _check_new(out, cfg, cls, frozen)
+            run = _resume(out, cfg, backend, bool(cls.requires))
+            return run.run(progress=progress, stop_after=stop_after)
+    run = _check_new(out, cfg, cls, frozen, backend)
     out.mkdir(parents=True, exist_ok=True)
     with rundir.locked(out):
-        _check_new(out, cfg, cls, frozen)  # another process may have been first
+        _check_new(out, cfg, cls, frozen, backend)  # another process was first?
         _create(run, frozen)
-        return _loop(run, backend, progress, stop_after)
+        return run.run(progress=progress, stop_after=stop_after)
 
 
 def _check_new(
-    out: Path, cfg: TrainConfig, cls: type, frozen: FrozenGenomes | None
-) -> _Run:
+    out: Path,
+    cfg: TrainConfig,
+    cls: type,
+    frozen: FrozenGenomes | None,
+    backend: Backend,
+) -> Trainer:
     """Check everything a new run needs, writing nothing."""
     if out.exists() and not out.is_dir():
         raise UserError(f"--out {out}: exists and is not a directory")
@@ -168,7 +270,8 @@ def _check_new(
         ),
         f"population {cfg.population:,}: a generation",
     )  # fmt: skip
-    run = _Run(out, cfg, beh)  # the controller and optimizer are checked here
+    # the controller and optimizer are checked here
+    run = Trainer(beh, _optimizer(cfg, beh), backend, out, cfg)
     try:  # the first genomes (ask() holds them until tell())
         genomes = run.opt.ask()
     except (ValueError, OverflowError, FloatingPointError) as e:
@@ -178,7 +281,11 @@ def _check_new(
     return run
 
 
-def _create(run: _Run, frozen: FrozenGenomes | None) -> None:
+def _optimizer(cfg: TrainConfig, task: Behaviour) -> Optimizer:
+    return make_optimizer(cfg.optimizer, task.controller.num_params, cfg.seed)
+
+
+def _create(run: Trainer, frozen: FrozenGenomes | None) -> None:
     """The files of a new run directory."""
     if run.beh.requires:
         frozen.save(run.out / rundir.FROZEN)
@@ -186,7 +293,7 @@ def _create(run: _Run, frozen: FrozenGenomes | None) -> None:
     rundir.truncate_metrics(run.out / rundir.METRICS, 0, "", run.diagnostics)
 
 
-def _resume(out: Path, cfg: TrainConfig, builds_on: bool) -> _Run:
+def _resume(out: Path, cfg: TrainConfig, backend: Backend, builds_on: bool) -> Trainer:
     """Check that ``cfg`` continues the run in ``out``, restore it, and only
     then record a changed budget."""
     stored = rundir.load_config(out / rundir.CONFIG)
@@ -201,14 +308,16 @@ def _resume(out: Path, cfg: TrainConfig, builds_on: bool) -> _Run:
             f"--resume: {out} was trained with the {stored.optimizer.kind!r} "
             f"optimizer, not {cfg.optimizer.kind!r}"
         )
-    if stored.replace(generations=cfg.generations) != cfg:
-        mine, theirs = cfg.to_dict(), stored.to_dict()
-        diff = [k for k in mine if k != "generations" and mine[k] != theirs.get(k)]
+    diff = _differences(cfg.to_dict(), stored.to_dict())
+    if diff:
+        key, mine, theirs = diff[0]
+        more = f" (and {len(diff) - 1} more)" if len(diff) > 1 else ""
         raise UserError(
-            f"--resume: the options differ from {out / rundir.CONFIG} in "
-            f"{', '.join(diff)}"
+            f"--resume: {key} {_shown(mine)} differs from the run's {key} "
+            f"{_shown(theirs)} ({out / rundir.CONFIG}){more}"
         )
-    run = _Run(out, cfg, rundir.behaviour_of(cfg, out))
+    beh = rundir.behaviour_of(cfg, out)
+    run = Trainer(beh, _optimizer(cfg, beh), backend, out, cfg)
     if (out / rundir.CHECKPOINT).exists():
         run.restore()
     if cfg.generations < run.opt.generation:
@@ -225,7 +334,28 @@ def _resume(out: Path, cfg: TrainConfig, builds_on: bool) -> _Run:
     return run
 
 
-def _keep_metrics_columns(run: _Run) -> None:
+def _differences(
+    mine: dict[str, Any], theirs: dict[str, Any], prefix: str = ""
+) -> list[tuple[str, Any, Any]]:
+    """(key, mine, theirs) of every config value that differs but the
+    budget, tables flattened to dotted keys."""
+    out = []
+    for k in sorted({*mine, *theirs} - {"generations", "format"}):
+        a, b = mine.get(k), theirs.get(k)
+        if isinstance(a, dict) and isinstance(b, dict):
+            out += _differences(a, b, f"{prefix}{k}.")
+        elif a != b:
+            out.append((f"{prefix}{k}", a, b))
+    return out
+
+
+def _shown(v: Any) -> str:
+    if isinstance(v, list):
+        return ",".join(map(str, v)) or "none"
+    return "none" if v is None else str(v)
+
+
+def _keep_metrics_columns(run: Trainer) -> None:
     """A resumed run goes on with the columns its metrics.csv has (one
     started before its optimizer had diagnostics has none, and so has the
     checkpoint's metrics row if the file is gone)."""
@@ -242,88 +372,6 @@ def _keep_metrics_columns(run: _Run) -> None:
             f"{run.cfg.optimizer.kind!r} optimizer"
         )
     run.diagnostics = columns
-
-
-def _loop(
-    run: _Run, backend: Backend, progress: bool, stop_after: int | None
-) -> TrainResult:
-
-    cfg, opt, beh, p = run.cfg, run.opt, run.beh, run.cfg.model
-    t_start = time.perf_counter()
-    bar = tqdm(
-        total=cfg.generations,
-        initial=opt.generation,
-        desc=f"{cfg.behaviour}",
-        unit="gen",
-        disable=not progress,
-        dynamic_ncols=True,
-    )
-    done = 0
-    stopped = opt.stop() if opt.generation else {}
-    failed = True
-    metrics = run.out / rundir.METRICS
-    try:
-        while (
-            not stopped
-            and opt.generation < cfg.generations
-            and (stop_after is None or done < stop_after)
-        ):
-            t0 = time.perf_counter()
-            x = opt.ask()
-            fit, res = beh.evaluate(x, p, backend=backend, engine=cfg.engine)
-            opt.tell(fit)
-            g = opt.generation
-            i = int(np.argmax(fit))
-            if run.best is None or fit[i] > run.best.fitness:
-                run.best = BestGenome(
-                    x[i].copy(), float(fit[i]), g, cfg.behaviour, run.hash
-                )
-                run.best.save(run.out / rundir.BEST)
-            f = opt.fitness
-            # floats as shortest round-trip text: the CSV holds exact values
-            row = [g, float(f[int(np.argmax(f))]), float(f.mean()), float(f.std())]
-            row += [len(x), res.control_steps]
-            d = opt.diagnostics()
-            diag = [d[k] for k in run.diagnostics]
-            # the checkpoint carries its own metrics row (a kill between the
-            # two writes loses nothing); wall time covers the whole
-            # generation but for this last small write
-            wall = time.perf_counter() - t0
-            run.checkpoint(
-                rundir.metrics_line(row, wall, res.control_steps / wall, diag)
-            )
-            wall = time.perf_counter() - t0
-            rate = res.control_steps / wall
-            # the checkpoint already holds this row: a failed append loses
-            # nothing (resume restores it)
-            rundir.append_line(metrics, rundir.metrics_line(row, wall, rate, diag))
-            done += 1
-            stopped = opt.stop()
-            bar.set_postfix(
-                best=f"{row[1]:.4g}",
-                mean=f"{row[2]:.4g}",
-                steps_s=f"{rate:,.0f}",
-                refresh=False,
-            )
-            bar.update(1)
-        if stopped:
-            rundir.write_json(
-                run.out / rundir.STOP,
-                {"generation": opt.generation, "reasons": stopped},
-            )
-        failed = False
-    finally:
-        bar.close()
-        if opt.generation > 0:
-            try:
-                fitness_figure(run.out)
-            except UserError:
-                if not failed:  # else the first error is the one to report
-                    raise
-    assert run.best is not None
-    return TrainResult(
-        run.out, opt.generation, run.best, time.perf_counter() - t_start, stopped
-    )
 
 
 def fitness_figure(out: Path) -> Path:
