@@ -53,6 +53,8 @@ class Strategy(Protocol):
     where it does the same arithmetic (``numpy``; any strategy without
     networks), else within a tolerance the strategy states and a test checks
     (the compiled networks: ``tests/test_engine.py``'s ``NETWORK_TOL`` a step).
+    ``tests/test_rollout.py`` runs every strategy of :data:`STRATEGIES`
+    against ``numpy``.
     """
 
     def __call__(self, batch: Batch, job: RolloutJob) -> RolloutResult: ...
