@@ -9,6 +9,7 @@ import pytest
 from locustjump.sim import kernels, sensors
 from locustjump.sim.controller import MLP
 from locustjump.sim.engine.backends import ThreadBackend
+from locustjump.sim.engine.job import UNSTABLE, went_unstable
 from locustjump.sim.engine.rollout import RolloutJob, StartStates, observer
 from locustjump.tasks import get_behaviour
 from locustjump.tasks.composed import SwitchingController
@@ -68,6 +69,31 @@ def test_observation_and_actuation_are_bit_identical(states, mjmodel, params):
     d = np.ascontiguousarray(deltas.T)
     kernels.actuate(ctrl, d, lo, hi, np.zeros(len(ctrl), bool), False)
     np.testing.assert_array_equal(ctrl, want)
+
+
+def test_the_kernel_applies_the_one_unstable_rule(mjmodel):
+    """kernels.sense_and_check flags what job.went_unstable decides, among the
+    episodes not yet stopped, and reduces the touch sensors of ``ids``."""
+    rng = np.random.default_rng(6)
+    n, nw = 40, UNSTABLE.stop
+    qpos = rng.normal(size=(n, mjmodel.nq))
+    qpos[rng.random(n) < 0.2, rng.integers(mjmodel.nq)] = np.nan
+    qpos[3, 0], qpos[4, 1] = np.inf, -np.inf
+    warning = np.zeros((n, nw, 2), np.int32)
+    warning[rng.random(n) < 0.2, rng.integers(nw), 1] = 1
+    warning[:, :, 0] = 7  # lastinfo: not a count
+    unstable = rng.random(n) < 0.3
+    want = went_unstable(qpos, warning[..., 1]) & ~unstable
+    assert 0 < want.sum() < n
+    ids = np.flatnonzero(~unstable)
+    sub = rng.normal(size=(len(ids), 3, mjmodel.nsensordata))
+    sens, newly = np.zeros((n, mjmodel.nsensordata)), np.zeros(n, bool)
+    count = kernels.sense_and_check(sub, ids, sens, qpos, warning, unstable, newly)
+    np.testing.assert_array_equal(newly, want)
+    assert count == want.sum()
+    np.testing.assert_array_equal(sens[ids], sub.max(axis=1))
+    errors = went_unstable(np.zeros((n, 3)), np.zeros((n, nw)), np.array([5]))
+    assert errors.tolist() == [e == 5 for e in range(n)]
 
 
 def test_network_step_is_within_the_stated_tolerance(states):

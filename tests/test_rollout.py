@@ -2,8 +2,11 @@
 
 import numpy as np
 import pytest
+from mujoco.batch import Batch
 
+from locustjump.sim import model as lm
 from locustjump.sim.controller import MLP
+from locustjump.sim.engine import strategies
 from locustjump.sim.engine.backends import ThreadBackend
 from locustjump.sim.engine.episode import reference_rollout
 from locustjump.sim.engine.job import ENGINES
@@ -13,6 +16,8 @@ from locustjump.sim.engine.rollout import (
     StartStates,
     rollout,
 )
+from locustjump.sim.engine.strategies import STRATEGIES, run_batch
+from locustjump.tasks.composed import SwitchingController
 from locustjump.tasks.rules import RuleController
 
 RECORD = ("qpos", "obs", "ctrl", "memory")
@@ -58,6 +63,90 @@ def test_engine_matches_reference_rules(params, mjmodel, engine):
         engine=engine,
     )
     _equal(ThreadBackend(2).run(job), reference_rollout(job))
+
+
+def test_every_engine_name_has_a_strategy():
+    assert set(ENGINES) <= set(STRATEGIES)
+
+
+def _on_batch(strategy: str, job: RolloutJob, threads: int = 2) -> RolloutResult:
+    m = lm.load_model(job.model_params)
+    return STRATEGIES[strategy](Batch(m, job.n_episodes, threads, persistent=True), job)
+
+
+def _blowup_starts(mjmodel, k: int, blowups) -> StartStates:
+    """``k`` ready states, those in ``blowups`` with a velocity that fails at
+    once (1e30) or a few steps later (300)."""
+    starts = StartStates.ready(mjmodel).take([0] * k)
+    for e, v in blowups.items():
+        starts.qvel[e, :] = v
+    return starts
+
+
+@pytest.mark.parametrize("strategy", list(STRATEGIES))
+def test_every_strategy_gives_the_numpy_records_without_networks(
+    params, mjmodel, strategy
+):
+    """The rule-based controller (no network): every strategy does the NumPy
+    reference's arithmetic, so records, failures, steps and the count of
+    control steps agree bit for bit, with episodes failing at once and later,
+    and with every episode failing."""
+    rc = RuleController.for_model(params)
+    for blowups in ({1: 1e30, 3: 300.0}, {0: 1e30, 1: 1e30, 2: 300.0, 3: 1e30}):
+        job = RolloutJob(params, rc, rc.params_for([0.0, 0.25, 0.5, 0.1]),
+                         _blowup_starts(mjmodel, 4, blowups), 80, RECORD)  # fmt: skip
+        want = _on_batch("numpy", job)
+        assert want.unstable.tolist() == [e in blowups for e in range(4)]
+        got = _on_batch(strategy, job)
+        _equal(got, want)
+        assert got.control_steps == want.control_steps
+        ref = reference_rollout(job)
+        np.testing.assert_array_equal(want.steps, ref.steps)
+        np.testing.assert_array_equal(want.unstable, ref.unstable)
+        # at its start state (1e30) the batch records the state MuJoCo's
+        # forward() reset it to, the reference the start state: compare the rest
+        later = want.steps > 1
+        for k in want.records:
+            np.testing.assert_array_equal(want[k][later], ref[k][later], err_msg=k)
+
+
+@pytest.mark.parametrize("strategy", list(STRATEGIES))
+@pytest.mark.parametrize("controller", ["mlp", "switch"])
+def test_every_strategy_gives_the_numpy_records_with_networks(
+    params, mjmodel, strategy, controller
+):
+    """Networks: the compiled strategies sum in another order (within a few
+    ulp a step, tests/test_engine.py), so records agree closely and failures
+    and steps exactly; the NumPy strategy is the reference itself."""
+    rng = np.random.default_rng(11)
+    simple = MLP().random_genomes(rng, 3)
+    ctl = MLP() if controller == "mlp" else SwitchingController(simple=simple, every=7)
+    genomes = rng.uniform(-1, 1, (5, ctl.num_params))
+    job = RolloutJob(params, ctl, genomes, _blowup_starts(mjmodel, 5, {2: 300.0}),
+                     90, RECORD)  # fmt: skip
+    want, got = _on_batch("numpy", job), _on_batch(strategy, job)
+    assert want.unstable.tolist() == [False, False, True, False, False]
+    np.testing.assert_array_equal(got.unstable, want.unstable)
+    np.testing.assert_array_equal(got.steps, want.steps)
+    assert got.control_steps == want.control_steps
+    for k in want.records:
+        np.testing.assert_allclose(got[k], want[k], rtol=0, atol=1e-9, err_msg=k)
+    if strategy == "numpy":
+        _equal(got, reference_rollout(job))
+
+
+def test_run_batch_runs_the_strategy_the_job_names(params, mjmodel, monkeypatch):
+    rc = RuleController.for_model(params)
+    job = RolloutJob(params, rc, rc.params_for([0.0]), StartStates.ready(mjmodel), 5)
+    batch = Batch(lm.load_model(params), 1, 1, persistent=True)
+    ran = []
+    monkeypatch.setitem(STRATEGIES, "spy", lambda b, j: ran.append((b, j)))
+    monkeypatch.setattr(strategies, "strategy_name", lambda j: "spy")
+    run_batch(batch, job)
+    assert ran == [(batch, job)]
+    monkeypatch.setattr(strategies, "strategy_name", lambda j: "warp")
+    with pytest.raises(ValueError, match="unknown engine strategy 'warp'"):
+        run_batch(batch, job)
 
 
 def test_same_result_any_threads_and_split(mlp_job):

@@ -2,10 +2,12 @@
 
 Between two ``Batch.rollout`` calls the engine reduces the touch sensors over
 the substeps, checks for blow-ups, computes the 9 inputs, records the step,
-evaluates every network and applies the actuation rule. The ``numpy`` path
-(:func:`locustjump.sim.engine.loop.run_batch`) does that in about 20 NumPy calls,
-~100 µs per control step whatever the batch size; here it is one call of a
-compiled kernel over the whole batch.
+evaluates every network and applies the actuation rule. The ``numpy`` strategy
+(:class:`locustjump.sim.engine.numpy_step.NumpyStep`) does that in about 20
+NumPy calls, ~100 µs per control step whatever the batch size; here it is one
+call of a compiled kernel over the whole batch (:func:`step_mlp`,
+:func:`step_switch`), its arrays passed as named structures (:class:`Rollout`,
+:class:`MLPAct`, :class:`SwitchAct`).
 
 Arithmetic. Sensors, the actuation rule, the touch reduction and the checks
 are the same IEEE operations in the same order as in NumPy, so they agree bit
@@ -24,6 +26,7 @@ innermost index runs over episodes and vectorizes.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
@@ -170,7 +173,8 @@ def sense_and_check(sub, ids, sens, qpos, warning, unstable, newly) -> int:
     ``ids`` reduced to their maximum into ``sens``; flags in ``newly`` the
     episodes not yet ``unstable`` whose warning counters (``warning (n,
     mjNWARNING, 2)``, the count is ``[..., 1]``) rose or whose ``qpos`` is not
-    finite, and returns how many."""
+    finite, and returns how many: the engine's one rule
+    (:func:`locustjump.sim.engine.job.went_unstable`), compiled."""
     for i in range(ids.shape[0]):
         e = ids[i]
         for c in range(sub.shape[2]):
@@ -254,54 +258,106 @@ def soa(a: np.ndarray) -> np.ndarray:
     return np.ascontiguousarray(np.moveaxis(np.asarray(a, dtype=np.float64), 0, -1))
 
 
+class Records(NamedTuple):
+    """The records a rollout keeps, each ``(n, T + 1, ...)``; an empty
+    ``(0, 0, 0)`` array for a field not recorded."""
+
+    qpos: np.ndarray
+    obs: np.ndarray
+    ctrl: np.ndarray
+    memory: np.ndarray
+
+
+class Rollout(NamedTuple):
+    """What every kernel call of one rollout reads and writes, over ``n``
+    episodes: the batch's own ``qpos (n, nq)``, ``ctrl (n, nu)`` and
+    ``warning (n, mjNWARNING, 2)``; the touch maxima ``sens (n, nsensordata)``;
+    the flags ``unstable``/``newly (n,)``; the addresses ``joints (4,)`` and
+    ``touch``; ``body_length`` (m); the inputs ``obs (9, n)``; the controller's
+    ``memory (n, nmem)``; the records."""
+
+    sens: np.ndarray
+    qpos: np.ndarray
+    warning: np.ndarray
+    unstable: np.ndarray
+    newly: np.ndarray
+    joints: np.ndarray
+    touch: np.ndarray
+    body_length: float
+    obs: np.ndarray
+    ctrl: np.ndarray
+    memory: np.ndarray
+    records: Records
+
+
+class MLPAct(NamedTuple):
+    """One network per episode: ``net`` (w1, b1, w2, b2, episode-last), its
+    ``output`` code, the outputs ``deltas (4, n)``, scratch ``hidden (h, n)``,
+    the servo ranges ``lo``/``hi (nu,)``."""
+
+    net: tuple
+    output: int
+    deltas: np.ndarray
+    hidden: np.ndarray
+    lo: np.ndarray
+    hi: np.ndarray
+
+
+class SwitchAct(NamedTuple):
+    """The composed switcher (:func:`switch`): ``every`` steps the switcher
+    ``sw`` picks one of ``nets``; scratch ``choice (c, n)``, ``scratch (4, n)``,
+    ``hidden (h, n)``; as :class:`MLPAct` otherwise."""
+
+    every: int
+    sw: tuple
+    nets: tuple
+    deltas: np.ndarray
+    choice: np.ndarray
+    scratch: np.ndarray
+    hidden: np.ndarray
+    lo: np.ndarray
+    hi: np.ndarray
+
+
 @njit(cache=True, error_model="numpy")
-def post_step(
-    t, check, sub, ids, sens, qpos, warning, unstable, newly, joints, touch,
-    body_length, obs, ctrl, memory, rq, ro, rc, rm, any_stopped,
-):  # fmt: skip
+def post_step(t, check, sub, ids, stopped, r):
     """After the physics of control step ``t - 1`` (``t == 0``: the start
-    state, no ``sub``): reduce the touch sensors and check (``check``; returns
-    the number of newly failed episodes, and does nothing else, if any), then
-    observe into ``obs`` and record row ``t``."""
+    state, no ``sub``) of rollout ``r``: reduce the touch sensors of
+    simulations ``ids`` and check (``check``; returns the number of newly
+    failed episodes, and does nothing else, if any), then observe into
+    ``r.obs`` and record row ``t`` (``stopped``: some episode failed, and
+    those repeat their last row)."""
     if check:
-        count = sense_and_check(sub, ids, sens, qpos, warning, unstable, newly)
+        count = sense_and_check(sub, ids, r.sens, r.qpos, r.warning, r.unstable,
+                                r.newly)  # fmt: skip
         if count:
             return count
-    observe(qpos, sens, joints, touch, body_length, obs)
-    record(t, qpos, obs, ctrl, memory, rq, ro, rc, rm, unstable, any_stopped)
+    observe(r.qpos, r.sens, r.joints, r.touch, r.body_length, r.obs)
+    rec = r.records
+    record(t, r.qpos, r.obs, r.ctrl, r.memory, rec.qpos, rec.obs, rec.ctrl,
+           rec.memory, r.unstable, stopped)  # fmt: skip
     return 0
 
 
 @njit(cache=True, error_model="numpy")
-def step_mlp(
-    t, check, sub, ids, sens, qpos, warning, unstable, newly, joints, touch,
-    body_length, obs, ctrl, memory, rq, ro, rc, rm, any_stopped, act, net, output,
-    deltas, hidden, lo, hi,
-):  # fmt: skip
+def step_mlp(t, check, sub, ids, stopped, act, r, a):
     """:func:`post_step`, then (``act``, when no episode newly failed) one
-    network per episode (``net``: w1, b1, w2, b2) and the actuation rule:
+    network per episode and the actuation rule (``a``: :class:`MLPAct`):
     everything between two physics calls in one call."""
-    count = post_step(t, check, sub, ids, sens, qpos, warning, unstable, newly,
-                      joints, touch, body_length, obs, ctrl, memory, rq, ro, rc,
-                      rm, any_stopped)  # fmt: skip
+    count = post_step(t, check, sub, ids, stopped, r)
     if count == 0 and act:
-        w1, b1, w2, b2 = net
-        mlp(w1, b1, w2, b2, obs, deltas, hidden, output)
-        actuate(ctrl, deltas, lo, hi, unstable, any_stopped)
+        w1, b1, w2, b2 = a.net
+        mlp(w1, b1, w2, b2, r.obs, a.deltas, a.hidden, a.output)
+        actuate(r.ctrl, a.deltas, a.lo, a.hi, r.unstable, stopped)
     return count
 
 
 @njit(cache=True, error_model="numpy")
-def step_switch(
-    t, check, sub, ids, sens, qpos, warning, unstable, newly, joints, touch,
-    body_length, obs, ctrl, memory, rq, ro, rc, rm, any_stopped, act, every, sw,
-    nets, deltas, choice, scratch, hidden, lo, hi,
-):  # fmt: skip
-    """:func:`step_mlp` for the composed switcher (:func:`switch`)."""
-    count = post_step(t, check, sub, ids, sens, qpos, warning, unstable, newly,
-                      joints, touch, body_length, obs, ctrl, memory, rq, ro, rc,
-                      rm, any_stopped)  # fmt: skip
+def step_switch(t, check, sub, ids, stopped, act, r, a):
+    """:func:`step_mlp` for the composed switcher (``a``: :class:`SwitchAct`)."""
+    count = post_step(t, check, sub, ids, stopped, r)
     if count == 0 and act:
-        switch(t, every, sw, nets, memory, obs, deltas, choice, scratch, hidden)
-        actuate(ctrl, deltas, lo, hi, unstable, any_stopped)
+        switch(t, a.every, a.sw, a.nets, r.memory, r.obs, a.deltas, a.choice,
+               a.scratch, a.hidden)  # fmt: skip
+        actuate(r.ctrl, a.deltas, a.lo, a.hi, r.unstable, stopped)
     return count

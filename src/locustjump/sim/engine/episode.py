@@ -1,5 +1,7 @@
 """One episode on one ``MjData``: the engine's control step, unbatched, and the
-plain reference loop the engine is tested against (bit for bit)."""
+plain reference loop the engine is tested against (bit for bit). It shares the
+engine's inputs (:func:`~.job.observer`), records (:class:`~.job.Recorder`)
+and unstable rule (:func:`~.job.went_unstable`); only the stepping is its own."""
 
 from __future__ import annotations
 
@@ -9,13 +11,13 @@ import numpy as np
 from locustjump.sim import model as lm
 from locustjump.sim import sensors
 from locustjump.sim.engine.job import (
-    UNSTABLE,
     Recorder,
     RolloutJob,
     RolloutResult,
     StartStates,
     observer,
     record_shapes,
+    went_unstable,
 )
 
 
@@ -62,20 +64,15 @@ class Episode:
         d.ctrl[:] = sensors.apply_deltas(d.ctrl[None], deltas, self.index.ranges)[0]
         touch = self._touch
         touch[:] = -np.inf
+        error = None
         try:
             for _ in range(self.params.substeps):
                 mujoco.mj_step(m, d)
                 np.maximum(touch, d.sensordata, out=touch)
         except mujoco.FatalError:
-            self.unstable = True
-        if (
-            self.unstable
-            or any(
-                d.warning[w].number > 0 for w in range(UNSTABLE.start, UNSTABLE.stop)
-            )
-            or not np.isfinite(d.qpos).all()
-        ):
-            self.unstable = True
+            error = np.array([0])
+        failed = went_unstable(d.qpos[None], d.warning.number[None], error)[0]
+        self.unstable = self.unstable or bool(failed)
         return self.observe()
 
 

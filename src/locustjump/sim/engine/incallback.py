@@ -1,6 +1,8 @@
-"""The compiled path with no Python between substeps: each episode's
-controller runs inside MuJoCo's control callback (``mjcb_control``), on the
-batch's own C threads, and a whole rollout is one ``Batch.rollout`` call.
+"""The compiled path with no Python between substeps (strategy ``numba``):
+each episode's control step runs inside MuJoCo's control callback
+(``mjcb_control``), on the batch's own C threads, and a whole rollout is one
+``Batch.rollout`` call: the engine's loop (:func:`~.loop.run_steps`) with its
+per-control-step work moved into the physics.
 
 Per simulation, the callback of every substep (MuJoCo calls it in
 ``mj_forward``, after the position and velocity stages, before the actuator
@@ -16,11 +18,12 @@ the maximum over a control step's substeps is complete at the next control
 step's first callback, where it is used.
 
 What stays in Python, once a rollout: the start state's inputs and the first
-action, the last record, and the episodes that went unstable — MuJoCo resets
-a simulation's state when it detects a blow-up, before the callback could
-record the state that caused it, so those episodes (rare) are simulated
-again, alone, on the step-by-step loop, whose records and step counts are the
-reference. A MuJoCo error (not a warning) sends the whole rollout there.
+action (:func:`~.loop.begin` with :class:`~.compiled.CompiledStep`), the last
+record, and the episodes that went unstable (:func:`~.job.went_unstable`) —
+MuJoCo resets a simulation's state when it detects a blow-up, before the
+callback could record the state that caused it, so those episodes (rare) are
+simulated again, alone, on the step-by-step loop, whose records and step
+counts are the reference. A MuJoCo error sends the whole rollout there.
 
 The callback finds its data through the simulation's ``userdata`` (the model
 has ``nuserdata = 3``: a marker, the address of the rollout's context, the
@@ -46,13 +49,15 @@ from numba.extending import intrinsic
 from locustjump.sim import kernels as K
 from locustjump.sim import model as lm
 from locustjump.sim.engine import mjlayout
-from locustjump.sim.engine.compiled import Step, run_compiled, start
+from locustjump.sim.engine.compiled import CompiledStep, run_compiled
 from locustjump.sim.engine.job import (
     RECORDABLE,
     RolloutJob,
     RolloutResult,
     progress,
+    went_unstable,
 )
+from locustjump.sim.engine.loop import begin
 
 #: userdata[0] of a simulation this path drives
 USERDATA_MARK = 20061110.0
@@ -67,7 +72,7 @@ _OFF_QPOS, _OFF_CTRL, _OFF_SENS, _OFF_USER, _OFF_WARN, _OFF_NUSER = OFFSETS
 #: SHA-256 of kernels.py, whose functions the cached compiled code below calls:
 #: Numba's cache notices changes to this file only, so a change there must
 #: change this line too (``tests/test_incallback.py`` says so, with the digest)
-KERNELS_SHA256 = "0fa7c05e13d0bc15879ce0b4ca7fef3c7c31172faebde08fdfa0631111ca49e7"
+KERNELS_SHA256 = "b25392a3364dadc534ff5595ebe4300fd26ac027aea9bd9d9abeb8ba6d608395"
 
 
 def kernels_digest() -> str:
@@ -263,7 +268,8 @@ def run_incallback(batch: Batch, job: RolloutJob) -> RolloutResult:
     if not AVAILABLE or batch.model.nuserdata < NUSERDATA or not hasattr(ctl, "kernel"):
         return run_compiled(batch, job)
     m, n, T, S = batch.model, job.n_episodes, job.n_steps, job.model_params.substeps
-    step, rec, qpos = start(batch, job)
+    step = begin(batch, job, CompiledStep)
+    rec, qpos = step.recorder.arrays, batch.bind("qpos")
     no_sub = np.empty((0, S, m.nsensordata))
     # keep: every array ctx points into, alive until this function returns
     ctx, tmax, keep = _context(batch, job, step, rec)
@@ -282,7 +288,7 @@ def run_incallback(batch: Batch, job: RolloutJob) -> RolloutResult:
         user[:, 0] = 0.0
     # the last row, on the step-by-step loop's own kernel
     unstable, newly = step.unstable, step.newly
-    failed = (batch.warning[:, :, 1] > 0).any(axis=1)
+    failed = went_unstable(qpos, batch.warning[..., 1])
     unstable |= failed
     now = np.array(batch.bind("sensordata"))
     sub = now[:, None] if S == 1 else np.stack([tmax, now], axis=1)
@@ -300,7 +306,7 @@ def run_incallback(batch: Batch, job: RolloutJob) -> RolloutResult:
     return result
 
 
-def _context(batch: Batch, job: RolloutJob, step: Step, rec: dict) -> tuple:
+def _context(batch: Batch, job: RolloutJob, step: CompiledStep, rec: dict) -> tuple:
     """The context array the callback reads, the touch maxima it keeps, and
     every array it points into (which must outlive the rollout)."""
     m, ctl, n = batch.model, job.controller, job.n_episodes
@@ -376,7 +382,7 @@ def _step_all(batch: Batch, job: RolloutJob, substeps: int) -> None:
     for done in range(0, substeps, every):
         batch.rollout(min(every, substeps - done), record=(), ids=ids)
         bar.update(min(_CHUNK, job.n_steps - done // job.model_params.substeps))
-        bad = (batch.warning[:, :, 1] > 0).any(axis=1)
+        bad = went_unstable(batch.bind("qpos"), batch.warning[..., 1])
         ids = np.flatnonzero(~bad) if bad.any() else None
         if ids is not None and ids.size == 0:
             break

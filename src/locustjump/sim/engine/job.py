@@ -1,6 +1,7 @@
 """What the engine runs and returns: start states, a rollout job (picklable,
-splittable by episode), its result, and the per-step recording and progress
-bar that every engine strategy shares."""
+splittable by episode), its result, and what every engine strategy shares:
+the name of the job's strategy, the per-step recording, the rule deciding
+which episodes went unstable, and the progress bar."""
 
 from __future__ import annotations
 
@@ -30,6 +31,26 @@ UNSTABLE = slice(0, int(mujoco.mjtWarning.mjNWARNING))
 ENGINES = ("numpy", "numba")
 #: The engine of new runs.
 DEFAULT_ENGINE = "numba"
+
+
+def went_unstable(
+    qpos: np.ndarray, warnings: np.ndarray, errors: np.ndarray | None = None
+) -> np.ndarray:
+    """The one rule deciding which episodes failed: (n,) bool.
+
+    An episode failed when a MuJoCo warning of :data:`UNSTABLE` was counted
+    (``warnings (n, mjNWARNING)``, the counts: ``Batch.warning[..., 1]`` or
+    ``MjData.warning.number``), its ``qpos (n, nq)`` is not finite, or MuJoCo
+    raised an error for it (``errors``: episode indices, ``SimulationError.ids``).
+    The compiled kernels apply the same rule (``kernels.sense_and_check``).
+    """
+    counts = warnings[:, UNSTABLE]
+    if errors is None and not counts.any() and np.isfinite(qpos).all():
+        return np.zeros(qpos.shape[0], bool)  # one reduction each, nearly always
+    bad = (counts > 0).any(axis=1) | ~np.isfinite(qpos).all(axis=1)
+    if errors is not None:
+        bad[errors] = True
+    return bad
 
 
 @dataclass(frozen=True)
@@ -82,13 +103,11 @@ class RolloutJob:
     n_steps: int
     record: tuple[str, ...] = ("qpos", "obs")
     label: str = ""  # a progress bar over the control steps when not empty
-    engine: str = DEFAULT_ENGINE  # one of ENGINES
+    #: the engine strategy (a key of ``strategies.STRATEGIES``: one of a
+    #: run's ``ENGINES``, or another strategy such as ``numba-loop``)
+    engine: str = DEFAULT_ENGINE
 
     def __post_init__(self) -> None:
-        if self.engine not in ENGINES:
-            raise ValueError(
-                f"engine must be one of {', '.join(ENGINES)}, got {self.engine!r}"
-            )
         if self.n_steps < 1:
             raise ValueError(f"n_steps must be >= 1, got {self.n_steps}")
         if self.params.ndim != 2 or self.params.shape[1] != self.controller.num_params:
@@ -158,6 +177,12 @@ class RolloutResult:
         )
 
 
+def strategy_name(job: RolloutJob) -> str:
+    """The name of the engine strategy that runs ``job`` (a key of
+    :data:`~locustjump.sim.engine.strategies.STRATEGIES`); read here only."""
+    return job.engine
+
+
 def observer(
     idx: lm.ModelIndex, p: lm.LocustParams
 ) -> Callable[[np.ndarray, np.ndarray], np.ndarray]:
@@ -207,11 +232,22 @@ def progress(job: RolloutJob):
 
 
 class Recorder:
-    """Per-step copies of the requested fields; failed episodes repeat their last."""
+    """Per-step copies of the requested fields; failed episodes repeat their last.
+
+    The records of every engine strategy: ``arrays`` maps each recorded name
+    to an ``(n, T + 1, ...)`` array (row 0 the start state), which the NumPy
+    path fills with :meth:`write` and the compiled kernels fill in place.
+    """
 
     def __init__(self, names: Sequence[str], n: int, T: int, shape: dict):
         self.arrays = {k: np.empty((n, T + 1, *shape[k])) for k in names}
         self._order = tuple(RECORDABLE.index(k) for k in names)
+
+    @classmethod
+    def of(cls, job: RolloutJob, nq: int) -> Recorder:
+        """The records of ``job`` on a model with ``nq`` position coordinates."""
+        shapes = record_shapes(nq, job.controller.memory_size)
+        return cls(job.record, job.n_episodes, job.n_steps, shapes)
 
     def write(self, t, qpos, obs, ctrl, memory, stopped=None) -> None:
         """Row ``t``; episodes flagged in ``stopped`` repeat row ``t - 1``."""
@@ -222,5 +258,6 @@ class Recorder:
                 a[stopped, t] = a[stopped, t - 1]
 
     def fill_from(self, t: int) -> None:
+        """Rows ``t`` on repeat row ``t - 1`` (every episode stopped)."""
         for a in self.arrays.values():
             a[:, t:] = a[:, t - 1 : t]

@@ -2,7 +2,8 @@
 
 The entry point of the engine: it checks the memory a rollout needs, builds
 the :class:`~.job.RolloutJob` (controller-major episodes) and hands it to a
-backend (:mod:`~.backends`), which steps it with :func:`~.loop.run_batch`.
+backend (:mod:`~.backends`), which steps it with :func:`~.strategies.run_batch`
+(the job's engine strategy).
 """
 
 from __future__ import annotations
@@ -24,6 +25,7 @@ from locustjump.sim.engine.job import (
     observer,
     rollout_bytes,
 )
+from locustjump.sim.engine.strategies import run_batch
 from locustjump.sim.resources import require_memory
 
 __all__ = [
@@ -36,6 +38,7 @@ __all__ = [
     "observer",
     "rollout",
     "rollout_bytes",
+    "run_batch",
 ]
 
 

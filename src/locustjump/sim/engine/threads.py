@@ -10,7 +10,7 @@ from mujoco.batch import Batch
 
 from locustjump.sim import model as lm
 from locustjump.sim.engine.job import RolloutJob, RolloutResult
-from locustjump.sim.engine.loop import run_batch
+from locustjump.sim.engine.strategies import run_batch
 
 
 class Backend(Protocol):
