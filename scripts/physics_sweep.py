@@ -16,7 +16,7 @@ import mujoco
 import numpy as np
 
 from locustjump.sim import model as lm
-from locustjump.sim.sensors import MAX_DELTA, apply_deltas
+from locustjump.sim.actuation import MAX_DELTA, apply_deltas
 
 
 def kick_apex(p: lm.LocustParams, steps: int = 300) -> tuple[float, float]:

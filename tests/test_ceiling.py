@@ -8,8 +8,8 @@ from locustjump.present.stages import reporter_of
 from locustjump.rundir import load_run
 from locustjump.rundir.config import TrainConfig
 from locustjump.runs.trainer import train
+from locustjump.sim.actuation import MAX_DELTA
 from locustjump.sim.controller import MLP
-from locustjump.sim.sensors import MAX_DELTA
 from locustjump.tasks import behaviour_names
 from locustjump.tasks.ceiling import OpenLoop, apex_rise
 

@@ -6,7 +6,7 @@ and the same control flow (blow-ups, frozen records) on both paths."""
 import numpy as np
 import pytest
 
-from locustjump.sim import kernels, sensors
+from locustjump.sim import actuation, kernels
 from locustjump.sim.controller import MLP
 from locustjump.sim.engine.backends import ThreadBackend
 from locustjump.sim.engine.job import UNSTABLE, went_unstable
@@ -17,7 +17,7 @@ from locustjump.tasks.rules import RuleController
 
 #: per control step, |compiled - NumPy| of a network's output (rad): the sums
 #: run in another order and tanh is Cephes', not NumPy's: 8 ulp of 0.17 rad
-NETWORK_TOL = 8 * np.spacing(sensors.MAX_DELTA)
+NETWORK_TOL = 8 * np.spacing(actuation.MAX_DELTA)
 
 
 def _vector(f, x):
@@ -64,7 +64,7 @@ def test_observation_and_actuation_are_bit_identical(states, mjmodel, params):
     np.testing.assert_array_equal(got.T, want)
     deltas = rng.uniform(-0.5, 0.5, (len(qpos), 4))  # beyond +-10 deg too
     ctrl = flat["ctrl"].copy()
-    want = sensors.apply_deltas(ctrl, deltas, idx.ranges)
+    want = actuation.apply_deltas(ctrl, deltas, idx.ranges)
     lo, hi = idx.ranges[:, 0].copy(), idx.ranges[:, 1].copy()
     d = np.ascontiguousarray(deltas.T)
     kernels.actuate(ctrl, d, lo, hi, np.zeros(len(ctrl), bool), False)

@@ -6,8 +6,8 @@ import mujoco
 import numpy as np
 
 from locustjump.sim import model as lm
+from locustjump.sim.actuation import MAX_DELTA, apply_deltas
 from locustjump.sim.controller import MLP
-from locustjump.sim.sensors import MAX_DELTA, apply_deltas
 from locustjump.tasks.rules import RuleController
 
 

@@ -1,8 +1,8 @@
 import mujoco
 import numpy as np
 
+from locustjump.sim import actuation, sensors
 from locustjump.sim import model as lm
-from locustjump.sim import sensors
 from locustjump.sim.controller import MLP
 from locustjump.sim.engine.rollout import observer
 
@@ -43,8 +43,10 @@ def test_paper_inputs_at_start(params, mjmodel):
 def test_apply_deltas_limits_rate_and_range(params):
     r = params.joint_ranges()
     targets = np.array([[r[0, 0], r[1, 1], 1.0, 1.0]])
-    out = sensors.apply_deltas(targets, np.array([[-1.0, 1.0, 1.0, -0.01]]), r)
-    np.testing.assert_allclose(out, [[r[0, 0], r[1, 1], 1.0 + sensors.MAX_DELTA, 0.99]])
+    out = actuation.apply_deltas(targets, np.array([[-1.0, 1.0, 1.0, -0.01]]), r)
+    np.testing.assert_allclose(
+        out, [[r[0, 0], r[1, 1], 1.0 + actuation.MAX_DELTA, 0.99]]
+    )
 
 
 def test_mlp_layout_and_batching(rng):
@@ -62,7 +64,7 @@ def test_mlp_layout_and_batching(rng):
         np.testing.assert_array_equal(
             out[i], net.forward(g[i : i + 1], x[i : i + 1])[0]
         )
-    assert np.abs(out).max() <= sensors.MAX_DELTA
+    assert np.abs(out).max() <= actuation.MAX_DELTA
     switch = MLP(n_out=3, output="sigmoid")
     assert switch.num_params == 9 * 10 + 10 + 10 * 3 + 3
     s = switch.forward(switch.random_genomes(rng, 4), x[:4])

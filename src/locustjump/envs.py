@@ -37,9 +37,10 @@ from gymnasium import spaces
 from locustjump.present.render import make_renderer
 from locustjump.sim import model as lm
 from locustjump.sim import names
+from locustjump.sim.actuation import MAX_DELTA, N_ACTUATORS
 from locustjump.sim.engine.episode import Episode
 from locustjump.sim.model import CONTROL_DT
-from locustjump.sim.sensors import MAX_DELTA, N_ACTUATORS, N_INPUTS
+from locustjump.sim.sensors import N_INPUTS
 from locustjump.tasks import Behaviour, behaviour_class, behaviour_names
 
 

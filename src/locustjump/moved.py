@@ -23,7 +23,7 @@ MOVED: dict[str, tuple[str, ...]] = {
         "names": "sim.names",
         "params": "sim.params",
         "model": "sim.model",
-        "sensors": "sim.sensors",
+        "sensors": "sim.sensors+sim.actuation",
         "controller": "sim.controller",
         "analysis": "sim.analysis",
         "resources": "sim.resources",

@@ -26,8 +26,9 @@ from typing import Any, Literal, NamedTuple, Protocol, runtime_checkable
 
 import numpy as np
 
+from locustjump.sim.actuation import MAX_DELTA, N_ACTUATORS
 from locustjump.sim.kernels import OUTPUTS, soa
-from locustjump.sim.sensors import MAX_DELTA, N_ACTUATORS, N_INPUTS
+from locustjump.sim.sensors import N_INPUTS
 
 
 @runtime_checkable

@@ -31,7 +31,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from locustjump.sim.sensors import MAX_DELTA
+from locustjump.sim.actuation import MAX_DELTA
 
 # output squashing codes (MLP.output)
 DELTA, SIGMOID, LINEAR = 0, 1, 2
@@ -243,7 +243,7 @@ def record(t, qpos, obs, ctrl, memory, rq, ro, rc, rm, stopped, any_stopped):
 @njit(cache=True, error_model="numpy")
 def actuate(ctrl, deltas, lo, hi, unstable, any_unstable):
     """``ctrl = clip(ctrl + clip(deltas, +-10 deg), range)`` for the episodes
-    still running (the arithmetic of :func:`locustjump.sim.sensors.apply_deltas`);
+    still running (the arithmetic of :func:`locustjump.sim.actuation.apply_deltas`);
     ``deltas`` is episode-last ``(4, n)``."""
     for e in range(ctrl.shape[0]):
         if any_unstable and unstable[e]:

@@ -1,4 +1,5 @@
-"""The paper's 9 network inputs and its actuation rule, for a whole batch.
+"""The paper's 9 network inputs, for a whole batch (the outputs' actuation
+rule: :mod:`locustjump.sim.actuation`).
 
 Inputs (paper §3; SPEC "Controller"), computed from ``qpos`` and ``sensordata``:
 
@@ -34,9 +35,6 @@ Our readings (the paper's figures are lost):
   up-axis expressed in the body frame: the third row of the body's rotation
   matrix. I9 is the body's up-axis U_z (1 upright, -1 on its back), I7 the
   pitch (nose up > 0), I8 the roll.
-
-Actuation: each output is a change of a servo's target angle in [-10, +10] deg
-per control step; targets are clipped to the joint range.
 """
 
 from __future__ import annotations
@@ -44,8 +42,6 @@ from __future__ import annotations
 import numpy as np
 
 N_INPUTS = 9
-N_ACTUATORS = 4
-MAX_DELTA = np.radians(10.0)  # (rad) largest target change per control step
 
 
 def up_axis_in_body(quat: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
@@ -109,27 +105,3 @@ def paper_inputs(
     np.divide(1.0, height, out=height)
     up_axis_in_body(qpos[:, 3:7], out=obs[:, 6:9])
     return obs
-
-
-def apply_deltas(
-    targets: np.ndarray,
-    deltas: np.ndarray,
-    ranges: np.ndarray,
-    out: np.ndarray | None = None,
-) -> np.ndarray:
-    """New servo targets: ``clip(targets + clip(deltas, +-10 deg), range)``.
-
-    Args:
-      targets: (n, 4) current targets, radians.
-      deltas: (n, 4) requested changes, radians (clipped to +-10 deg).
-      ranges: (4, 2) joint ranges, radians.
-      out: where to write the result; may be ``targets`` itself.
-
-    Returns:
-      (n, 4) new targets.
-    """
-    step = np.maximum(deltas, -MAX_DELTA)
-    np.minimum(step, MAX_DELTA, out=step)
-    step += targets
-    np.maximum(step, ranges[:, 0], out=step)
-    return np.minimum(step, ranges[:, 1], out=step if out is None else out)

@@ -21,9 +21,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from locustjump.sim import model as lm
+from locustjump.sim.actuation import MAX_DELTA, N_ACTUATORS
 from locustjump.sim.controller import Controller
 from locustjump.sim.engine.job import RolloutResult
-from locustjump.sim.sensors import MAX_DELTA, N_ACTUATORS
 from locustjump.tasks.base import StepReward
 from locustjump.tasks.kick import Kick
 

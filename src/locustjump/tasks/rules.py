@@ -23,9 +23,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from locustjump.sim import model as lm
+from locustjump.sim.actuation import MAX_DELTA
 from locustjump.sim.controller import MLP, MLPWeights
 from locustjump.sim.model import CONTROL_DT
-from locustjump.sim.sensors import MAX_DELTA
 
 #: (Seconds) default change time, from scripts/tune_change_time.py
 DEFAULT_CHANGE_TIME = 0.5

@@ -14,8 +14,8 @@ from __future__ import annotations
 import numpy as np
 from mujoco.batch import Batch
 
+from locustjump.sim import actuation, sensors
 from locustjump.sim import model as lm
-from locustjump.sim import sensors
 from locustjump.sim.engine.job import (
     RECORDABLE,
     UNSTABLE,
@@ -70,7 +70,7 @@ class CompiledStep:
         self.ctl, self.prepared = ctl, ctl.prepare(job.params)
         spec = ctl.kernel(self.prepared) if hasattr(ctl, "kernel") else None
         self.kind = None if spec is None else spec[0]
-        self.deltas = np.empty((sensors.N_ACTUATORS, n))
+        self.deltas = np.empty((actuation.N_ACTUATORS, n))
         self.act: MLPAct | SwitchAct | None = None
         if self.kind == "mlp":
             _, net, output = spec

@@ -8,8 +8,8 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
+from locustjump.sim import actuation
 from locustjump.sim import model as lm
-from locustjump.sim import sensors
 from locustjump.sim.engine.job import (
     Recorder,
     RolloutJob,
@@ -61,7 +61,7 @@ class Episode:
         """One control step with target changes ``deltas`` (1, 4); the inputs
         after it. Sets :attr:`unstable` (the state is then meaningless)."""
         m, d = self.model, self.data
-        d.ctrl[:] = sensors.apply_deltas(d.ctrl[None], deltas, self.index.ranges)[0]
+        d.ctrl[:] = actuation.apply_deltas(d.ctrl[None], deltas, self.index.ranges)[0]
         touch = self._touch
         touch[:] = -np.inf
         error = None

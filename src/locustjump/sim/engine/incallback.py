@@ -72,7 +72,7 @@ _OFF_QPOS, _OFF_CTRL, _OFF_SENS, _OFF_USER, _OFF_WARN, _OFF_NUSER = OFFSETS
 #: SHA-256 of kernels.py, whose functions the cached compiled code below calls:
 #: Numba's cache notices changes to this file only, so a change there must
 #: change this line too (``tests/test_incallback.py`` says so, with the digest)
-KERNELS_SHA256 = "b25392a3364dadc534ff5595ebe4300fd26ac027aea9bd9d9abeb8ba6d608395"
+KERNELS_SHA256 = "56087242a62977d2cf6c324014311e2adfa61d52770c2ed84552acde05be9cfc"
 
 
 def kernels_digest() -> str:

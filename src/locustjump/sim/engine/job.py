@@ -13,8 +13,8 @@ import mujoco
 import numpy as np
 from tqdm.auto import tqdm
 
+from locustjump.sim import actuation, sensors
 from locustjump.sim import model as lm
-from locustjump.sim import sensors
 from locustjump.sim.controller import Controller
 
 #: What can be recorded per control step, and its per-step shape.
@@ -217,7 +217,7 @@ def rollout_bytes(
 
 def record_shapes(nq: int, nmem: int) -> dict[str, tuple[int, ...]]:
     """Per-step shape of each recordable field."""
-    return {"qpos": (nq,), "obs": (sensors.N_INPUTS,), "ctrl": (sensors.N_ACTUATORS,),
+    return {"qpos": (nq,), "obs": (sensors.N_INPUTS,), "ctrl": (actuation.N_ACTUATORS,),
             "memory": (nmem,)}  # fmt: skip
 
 

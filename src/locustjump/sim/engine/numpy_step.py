@@ -18,8 +18,8 @@ from __future__ import annotations
 import numpy as np
 from mujoco.batch import Batch
 
+from locustjump.sim import actuation
 from locustjump.sim import model as lm
-from locustjump.sim import sensors
 from locustjump.sim.engine.job import (
     Recorder,
     RolloutJob,
@@ -65,10 +65,10 @@ class NumpyStep:
                 self.prepared, self.memory, obs, self.ctrl, t
             )
             if stopped:
-                moved = sensors.apply_deltas(self.ctrl, deltas, self.ranges)
+                moved = actuation.apply_deltas(self.ctrl, deltas, self.ranges)
                 self.ctrl[ids] = moved[ids]
             else:
-                sensors.apply_deltas(self.ctrl, deltas, self.ranges, out=self.ctrl)
+                actuation.apply_deltas(self.ctrl, deltas, self.ranges, out=self.ctrl)
         return 0
 
 
