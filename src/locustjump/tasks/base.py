@@ -21,7 +21,7 @@ from locustjump.sim.engine.rollout import (
     StartStates,
     rollout,
 )
-from locustjump.tasks.reference import RulesRun
+from locustjump.tasks.reference import RulesRun, run_rules
 
 if TYPE_CHECKING:
     from locustjump.sim.engine.backends import Backend
@@ -141,6 +141,9 @@ class Behaviour:
 
     name: ClassVar[str]
     n_steps: ClassVar[int]
+    #: control steps of the rule-based reference episode (:meth:`reference`;
+    #: 0: none)
+    reference_steps: ClassVar[int] = 0
     record: ClassVar[tuple[str, ...]] = ("qpos",)
     #: what ``evaluate_run`` records (its trajectory CSV needs the first three)
     eval_record: ClassVar[tuple[str, ...]] = ("qpos", "obs", "ctrl")
@@ -186,8 +189,13 @@ class Behaviour:
         engine: str = DEFAULT_ENGINE,
     ) -> RulesRun | None:
         """The rule-based episode its metrics and figures compare with
-        (simulated once per evaluation; ``None``: it compares with none)."""
-        return None
+        (:attr:`reference_steps` long; simulated once per evaluation;
+        ``None``: it compares with none)."""
+        if not self.reference_steps:
+            return None
+        return run_rules(
+            steps=self.reference_steps, model_params=p, backend=backend, engine=engine
+        )
 
     def metrics(
         self,

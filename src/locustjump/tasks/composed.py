@@ -27,14 +27,14 @@ import numpy as np
 from locustjump.sim import model as lm
 from locustjump.sim.analysis import find_jumps
 from locustjump.sim.controller import MLP, Controller, MLPWeights
-from locustjump.sim.engine.job import DEFAULT_ENGINE, RolloutResult, StartStates
+from locustjump.sim.engine.job import RolloutResult, StartStates
 from locustjump.sim.kernels import soa
 from locustjump.tasks.base import Behaviour, CommonOptions, StepReward
 from locustjump.tasks.getup import SUCCESS_UZ, rolled_starts
-from locustjump.tasks.reference import RulesRun, run_rules
+from locustjump.tasks.reference import RulesRun
 
 if TYPE_CHECKING:
-    from locustjump.sim.engine.backends import Backend
+    pass
 
 #: The simple behaviours, in the order of the switcher's outputs.
 SIMPLE = ("kick", "getup", "return-legs")
@@ -162,6 +162,7 @@ class Successive(Behaviour):
     fitness and metrics."""
 
     n_steps = 3000
+    reference_steps = n_steps
     record = ("qpos",)
     worst_fitness = 0.0
     eval_record = ("qpos", "obs", "ctrl", "memory")
@@ -171,18 +172,6 @@ class Successive(Behaviour):
 
     def episode_fitness(self, res: RolloutResult, p: lm.LocustParams) -> np.ndarray:
         return res["qpos"][:, 1:, 2].sum(axis=1)
-
-    def reference(
-        self,
-        p: lm.LocustParams,
-        *,
-        backend: Backend | None = None,
-        engine: str = DEFAULT_ENGINE,
-    ) -> RulesRun:
-        """The rule-based jumping over the same episode length."""
-        return run_rules(
-            steps=self.n_steps, model_params=p, backend=backend, engine=engine
-        )
 
     def metrics(
         self,

@@ -18,13 +18,13 @@ import numpy as np
 
 from locustjump.sim import model as lm
 from locustjump.sim.analysis import find_jumps
-from locustjump.sim.engine.job import DEFAULT_ENGINE, RolloutResult, StartStates
+from locustjump.sim.engine.job import RolloutResult, StartStates
 from locustjump.sim.model import CONTROL_DT
 from locustjump.tasks.base import Behaviour, StepReward
-from locustjump.tasks.reference import RulesRun, run_rules
+from locustjump.tasks.reference import RulesRun
 
 if TYPE_CHECKING:
-    from locustjump.sim.engine.backends import Backend
+    pass
 
 
 @functools.lru_cache(maxsize=8)
@@ -72,6 +72,8 @@ class KickReward(StepReward):
 class Kick(Behaviour):
     name = "kick"
     n_steps = 300
+    #: its first jump may land after the kick's episode ends
+    reference_steps = 2 * n_steps
     record = ("qpos",)
     worst_fitness = 0.0
     gym_id = "LocustKick-v0"
@@ -81,19 +83,6 @@ class Kick(Behaviour):
 
     def episode_fitness(self, res: RolloutResult, p: lm.LocustParams) -> np.ndarray:
         return kick_fitness(res["qpos"])
-
-    def reference(
-        self,
-        p: lm.LocustParams,
-        *,
-        backend: Backend | None = None,
-        engine: str = DEFAULT_ENGINE,
-    ) -> RulesRun:
-        """The rule-based jumping over twice the episode (its first jump may
-        land after the kick's episode ends)."""
-        return run_rules(
-            steps=2 * self.n_steps, model_params=p, backend=backend, engine=engine
-        )
 
     def metrics(
         self,
