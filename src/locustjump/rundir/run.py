@@ -118,7 +118,7 @@ class BestGenome:
 
 @dataclass(frozen=True)
 class FrozenGenomes:
-    """The frozen networks a behaviour builds on (``DIR/simple.npz``).
+    """The frozen networks a behaviour builds on (``DIR/frozen.npz``).
 
     ``genomes`` (k, P) in the order of the behaviour's ``requires``;
     ``sources`` the run directories they came from and ``hashes`` those runs'
