@@ -264,3 +264,15 @@ def test_mujoco_warnings_go_to_the_log_not_into_the_working_directory(
     assert any("unstable" in r.getMessage() for r in caplog.records)
     assert not (tmp_path / "MUJOCO_LOG.TXT").exists()
     assert np.isfinite(res["qpos"]).all()
+
+
+@pytest.mark.parametrize("command", [["train", "kick"], ["rules"], ["reproduce"]])
+def test_an_empty_out_is_refused_not_the_working_directory(
+    tmp_path, monkeypatch, capsys, command
+):
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(SystemExit) as e:
+        main([*command, "--out", ""])
+    err = capsys.readouterr().err
+    assert e.value.code == 2 and "--out must be a path, got ''" in err
+    assert len(err.strip().splitlines()) == 1 and not any(tmp_path.iterdir())

@@ -69,3 +69,10 @@ def _finite_float(name: str, *, above: float | None = None, allow_equal: bool = 
 
 def _positive_float(name: str, *, allow_zero: bool = False):
     return _finite_float(name, above=0.0, allow_equal=allow_zero)
+
+
+def out_path(text: str) -> str:
+    """An ``--out`` path: not empty (``''`` would be the working directory)."""
+    if not text.strip():
+        raise argparse.ArgumentTypeError(f"--out must be a path, got {text!r}")
+    return text

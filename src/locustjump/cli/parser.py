@@ -11,6 +11,7 @@ from locustjump.cli.argtypes import (
     _positive_float,
     _seeds,
     _substeps,
+    out_path,
 )
 from locustjump.evo import optimizer_kinds
 from locustjump.present.compare import KEYS
@@ -106,7 +107,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="size over a real locust",
     )
     _strut_stiffness_arg(p)
-    p.add_argument("--out", required=True, help="MJCF file to write")
+    p.add_argument("--out", type=out_path, required=True, help="MJCF file to write")
     p.add_argument("--force", action="store_true", help="overwrite --out")
     p.set_defaults(func=cmd.cmd_model)
 
@@ -126,7 +127,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     _strut_stiffness_arg(p)
     _add_backend(p)
-    p.add_argument("--out", required=True, help="output directory")
+    p.add_argument("--out", type=out_path, required=True, help="output directory")
     p.add_argument("--force", action="store_true", help="write into a non-empty --out")
     p.set_defaults(func=cmd.cmd_rules)
 
@@ -153,7 +154,9 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="FILE",
         help="TOML file of settings (a run's config.toml is one); options override it",
     )
-    p.add_argument("--out", required=True, metavar="DIR", help="run directory")
+    p.add_argument(
+        "--out", type=out_path, required=True, metavar="DIR", help="run directory"
+    )
     p.add_argument(
         "--resume",
         action="store_true",
@@ -245,7 +248,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     _add_optimizer(p, "rcga")
     _add_backend(p)
-    p.add_argument("--out", required=True, metavar="DIR")
+    p.add_argument("--out", type=out_path, required=True, metavar="DIR")
     p.add_argument("--quiet", action="store_true", help="no progress bars")
     p.add_argument(
         "--no-videos",
@@ -271,7 +274,9 @@ def build_parser() -> argparse.ArgumentParser:
         ),
     )
     p.add_argument("dir", metavar="DIR", help="a reproduction directory")
-    p.add_argument("--out", required=True, metavar="OUT", help="output directory")
+    p.add_argument(
+        "--out", type=out_path, required=True, metavar="OUT", help="output directory"
+    )
     p.add_argument("--force", action="store_true", help="write into a non-empty OUT")
     _add_backend(p)
     p.set_defaults(func=cmd.cmd_replay)
@@ -289,7 +294,10 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("dir", metavar="DIR")
     p.add_argument(
-        "--out", metavar="VIDEO", help="a .mp4 or .gif (default DIR/video.mp4)"
+        "--out",
+        type=out_path,
+        metavar="VIDEO",
+        help="a .mp4 or .gif (default DIR/video.mp4)",
     )
     p.add_argument(
         "--fps",
