@@ -176,11 +176,6 @@ class LocustParams:
         """A copy with some fields changed (validated again)."""
         return dataclasses.replace(self, **changes)
 
-    def joint_ranges(self) -> np.ndarray:
-        """(4, 2) ranges of the actuated joints in radians, order of I1–I4."""
-        hip, knee = np.radians(self.hip_range), np.radians(self.knee_range)
-        return np.array([hip, knee, hip, knee])
-
     def kick_angles(self) -> np.ndarray:
         """(4,) extended kick posture in radians, order of I1–I4."""
         return np.radians([self.kick_hip, self.kick_knee] * 2)
