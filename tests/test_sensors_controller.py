@@ -41,7 +41,7 @@ def test_paper_inputs_at_start(params, mjmodel):
 
 
 def test_apply_deltas_limits_rate_and_range(params):
-    r = params.joint_ranges()
+    r = lm.ModelIndex.of(lm.load_model(params)).ranges
     targets = np.array([[r[0, 0], r[1, 1], 1.0, 1.0]])
     out = actuation.apply_deltas(targets, np.array([[-1.0, 1.0, 1.0, -0.01]]), r)
     np.testing.assert_allclose(
