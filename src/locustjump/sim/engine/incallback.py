@@ -9,13 +9,12 @@ Per simulation, the callback of every substep (MuJoCo calls it in
 forces) keeps the maximum of the touch sensors; at the first substep of a
 control step it computes the 9 inputs of the state the previous control step
 left, records them, runs the episode's network and writes the new servo
-targets into that simulation's ``ctrl``. It calls the very kernels of
-:mod:`locustjump.sim.kernels` on one episode's slices, so every number is the
-same as on the step-by-step compiled loop (:func:`~.compiled.run_compiled`),
-bit for bit (tested). The touch sensors are computed in ``mj_forward`` after the
-callback, so the callback of a substep sees those of the substep before it:
-the maximum over a control step's substeps is complete at the next control
-step's first callback, where it is used.
+targets into that simulation's ``ctrl``, with :mod:`~locustjump.sim.kernels`
+on one episode's slices: the numbers of the step-by-step compiled loop
+(:func:`~.compiled.run_compiled`), bit for bit (tested). MuJoCo computes the
+touch sensors after the callback, so a substep's callback sees the substep
+before's: a control step's maximum is complete at the next one's first
+callback, where it is used.
 
 What stays in Python, once a rollout: the start state's inputs and the first
 action (:func:`~.loop.begin` with :class:`~.compiled.CompiledStep`), the last
@@ -39,6 +38,7 @@ from __future__ import annotations
 import hashlib
 import threading
 import warnings
+from dataclasses import replace
 
 import mujoco
 import numpy as np
@@ -90,12 +90,8 @@ if not AVAILABLE:
         else "kernels.py changed since incallback.py was compiled against it "
         "(KERNELS_SHA256)"
     )
-    warnings.warn(
-        f"locustjump: {why}; the step-by-step compiled loop runs instead "
-        "(same results, slower)",
-        RuntimeWarning,
-        stacklevel=2,
-    )
+    why += "; the step-by-step compiled loop runs instead (same results, slower)"
+    warnings.warn(f"locustjump: {why}", RuntimeWarning, stacklevel=2)
 _NWARNING = int(mujoco.mjtWarning.mjNWARNING)
 
 
@@ -392,11 +388,10 @@ def _step_all(batch: Batch, job: RolloutJob, substeps: int) -> None:
 def _redo(job: RolloutJob, failed: np.ndarray, result: RolloutResult) -> None:
     """Episodes ``failed`` of ``result`` simulated again on the step-by-step
     loop, alone (episodes are independent: the same as in the whole batch)."""
-    sub = RolloutJob(job.model_params, job.controller, job.params[failed],
-                     job.starts.take(failed), job.n_steps, job.record)  # fmt: skip
+    sub = replace(job, params=job.params[failed], starts=job.starts.take(failed),
+                  label="")  # fmt: skip
     batch = Batch(lm.load_model(job.model_params), len(failed), 1, persistent=True)
     again = run_compiled(batch, sub)
     for k, a in result.records.items():
         a[failed] = again.records[k]
-    result.unstable[failed] = again.unstable
-    result.steps[failed] = again.steps
+    result.unstable[failed], result.steps[failed] = again.unstable, again.steps
