@@ -294,7 +294,12 @@ def test_reproduce_without_monolithic_then_adds_it(tmp_path):
     reproduce(out, budget=TINY, monolithic=False, **quiet)
     assert not (out / "monolithic").exists()
     text = (out / RESULTS).read_text()
-    assert "**Not finished:** stage monolithic not run yet" in text
+    # the command it records is the one that made it (`make demo` runs one)
+    assert rundir.read_toml(out / MARKER)["command"] == (
+        f"locustjump reproduce --budget tiny --seed 0 --no-monolithic --out {out}"
+    )
+    assert "**Left out:** the monolithic baseline (`--no-monolithic`;" in text
+    assert "Not finished" not in text
     assert "monolithic stages (not run yet: monolithic)" in text
     assert "| monolithic |" not in text and "![monolithic]" not in text
     assert "| composed | 4 | 1 |" in text  # its wall-time row

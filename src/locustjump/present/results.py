@@ -70,7 +70,13 @@ def results_markdown(out: Path) -> str:
         "genomes and checks that their fitness is the recorded one.",
         "",
     ]
-    if missing:
+    if missing == ["monolithic"] and "--no-monolithic" in marker["command"]:
+        lines += [
+            "**Left out:** the monolithic baseline (`--no-monolithic`; rerun the "
+            "command above without it to add it).",
+            "",
+        ]
+    elif missing:
         lines += [
             f"**Not finished:** stage{'s' * (len(missing) > 1)} "
             f"{', '.join(missing)} not run yet (rerun the command above, without "

@@ -118,7 +118,7 @@ def reproduce_seeds(
         for s in rep.seeds:
             rep.seed_dir(s).mkdir(exist_ok=True)
             held.enter_context(rundir.locked(rep.seed_dir(s)))
-        rep.start(command or rep.command(backend))
+        rep.start(command or rep.command(backend, monolithic=monolithic))
         if ray is None:
             for i, s in enumerate(rep.seeds, 1):
                 log(f"[seed {s}] {i} of {len(rep.seeds)} seeds, on this machine")

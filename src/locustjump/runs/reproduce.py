@@ -93,7 +93,7 @@ def reproduce(
     rep.out.mkdir(parents=True, exist_ok=True)
     with rundir.locked(rep.out):
         rep.check()  # another process may have been first
-        rep.start(command)
+        rep.start(command or rep.command(monolithic=monolithic))
         for stage in stages_of(monolithic):
             if not rep.stage_done(stage):
                 rep.run_stage(stage, backend, progress=progress, log=log)

@@ -156,8 +156,9 @@ class Reproduction:
             self, out=self.seed_dir(seed), seeds=(seed,), many=False
         )
 
-    def command(self, backend: str = "threads") -> str:
-        """The command that makes (and continues) it."""
+    def command(self, backend: str = "threads", *, monolithic: bool = True) -> str:
+        """The command that makes (and continues) it (``monolithic=False``:
+        without the monolithic baseline)."""
         flags = "" if self.optimizer == "rcga" else f" --optimizer {self.optimizer}"
         if self.engine != DEFAULT_ENGINE:
             flags += f" --engine {self.engine}"
@@ -167,6 +168,7 @@ class Reproduction:
         else:
             seeds = f" --seed {self.seeds[0]}"
         budget = f"--budget {self.budget.name}"
+        flags += "" if monolithic else " --no-monolithic"
         return f"locustjump reproduce {budget}{seeds}{flags} --out {self.out}"
 
     def marker(self) -> dict[str, Any]:
