@@ -71,6 +71,13 @@ BUDGETS: dict[str, Budget] = {
     "quick": Budget(
         "quick", 50, {"kick": 30, "getup": 10, "return-legs": 20, "composed": 30}
     ),
+    # what `make demo` runs (README, "The demo"): the long budget's simple
+    # behaviours and the quick budget's composed stage. On the quick budget's
+    # simple behaviours (a kick of 0.99 m) seed 0's switcher keeps the creature
+    # lying on its side, which scores more than any jumping it can compose
+    "demo": Budget(
+        "demo", 50, {"kick": 100, "getup": 20, "return-legs": 60, "composed": 30}
+    ),
     "long": Budget(
         "long", 50, {"kick": 100, "getup": 20, "return-legs": 60, "composed": 120}
     ),
@@ -249,6 +256,14 @@ class Reproduction:
             d
         ) >= self.budget.of(stage)
 
+    def train_config(self, stage: str, seed: int | None = None) -> TrainConfig:
+        """What trained ``stage`` (not the rule-based one) of ``seed`` trains
+        (its ``config.toml``, less the digest of the genomes it builds on)."""
+        seed = self.seeds[0] if seed is None else seed
+        kind = params_class(self.optimizer)(population=self.budget.population)
+        return TrainConfig(stage, seed, self.budget.of(stage), kind,
+                           lm.LocustParams(), engine=self.engine)  # fmt: skip
+
     def run_stage(
         self,
         stage: str,
@@ -268,9 +283,7 @@ class Reproduction:
             run_rules_stage(d, backend=backend, engine=self.engine)
             return None
         gens = self.budget.of(stage)
-        kind = params_class(self.optimizer)(population=self.budget.population)
-        cfg = TrainConfig(stage, seed, gens, kind, lm.LocustParams(),
-                          engine=self.engine)  # fmt: skip
+        cfg = self.train_config(stage, seed)
         needs = behaviour_class(stage).requires
         frozen = None
         if needs:
