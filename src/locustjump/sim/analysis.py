@@ -75,3 +75,19 @@ def find_jumps(
             Jump(int(a), k, int(b), float(z[k]), float(qpos[k, 0]), float(z[k] - stand))
         )
     return jumps
+
+
+#: (Seconds) on its back or side this long counts as stuck overturned.
+STUCK_S = 1.0
+
+
+def stuck_overturned(uz: np.ndarray, dt: float = lm.CONTROL_DT) -> int | None:
+    """The first control step from which the body's up vector points down
+    (``U_z < 0``) for ``STUCK_S`` on end: the creature lies overturned (a
+    somersault in flight is shorter); ``None`` if it never does."""
+    n = max(1, round(STUCK_S / dt))
+    if len(uz) < n:
+        return None
+    runs = np.convolve(uz < 0, np.ones(n, int), "valid")
+    hit = np.flatnonzero(runs == n)
+    return int(hit[0]) if len(hit) else None

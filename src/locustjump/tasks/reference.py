@@ -6,12 +6,12 @@ what the kick and the composed behaviour compare with
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from locustjump.sim import model as lm
-from locustjump.sim.analysis import find_jumps
+from locustjump.sim.analysis import find_jumps, stuck_overturned
 from locustjump.sim.engine.rollout import DEFAULT_ENGINE, rollout
 from locustjump.sim.scene import Flat, Scene
 from locustjump.tasks.rules import DEFAULT_CHANGE_TIME, RuleController
@@ -82,3 +82,18 @@ def run_rules(
         bool(res.unstable[0]),
         scene,
     )
+
+
+def rules_outcome(run: RulesRun, p: lm.LocustParams) -> dict[str, Any]:
+    """How far the rules got: jumps, the first time it lay overturned for good
+    (:func:`~locustjump.sim.analysis.stuck_overturned`; the rules cannot get
+    up), the jumps before that and the distance (m, along x) by then."""
+    stuck = stuck_overturned(run.obs[:, 8])
+    end = len(run.qpos) - 1 if stuck is None else stuck
+    return {
+        "jumps": len(run.jumps),
+        "stuck_overturned_s": None if stuck is None else stuck * lm.CONTROL_DT,
+        "jumps_before_stuck": sum(j.start < end for j in run.jumps),
+        "distance_m": float(run.qpos[end, 0] - run.qpos[0, 0]),
+        "final_up_z": float(run.obs[-1, 8]),
+    }
