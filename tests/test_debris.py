@@ -72,6 +72,7 @@ def test_heights_are_the_box_tops_and_the_clearing_is_free():
         ({"friction": 0.0}, "friction"),
         ({"seed": -1}, "seed"),
         ({"spacing": 0.02}, f"at most {MAX_BOXES:,}"),
+        ({"length": 1000, "width": 1000, "spacing": 100}, "too large"),
     ],
 )
 def test_bad_debris_parameters_are_named(change, message):

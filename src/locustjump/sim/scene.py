@@ -111,6 +111,8 @@ class Flat(Scene):
 MAX_BOXES = 2000
 #: Most terrains a genome may be scored on in training.
 MAX_TERRAINS = 64
+#: Most cells of a terrain's height grid (8 bytes each: 160 MB).
+MAX_CELLS = 20_000_000
 #: Cell of the height grid the fitness reads the ground's height from (body
 #: lengths; 1 cm at the default size).
 HEIGHT_CELL_BL = 0.02
@@ -181,6 +183,16 @@ class Debris(Flat):
                 )
         if not 1e-6 <= self.friction <= 100:
             raise ValueError(f"friction must be in [1e-6, 100], got {self.friction}")
+        reach = 2 * self.size_max  # the grid's margin: a box's diagonal, both sides
+        cells = ((self.behind + self.length + reach) / HEIGHT_CELL_BL) * (
+            (self.width + reach) / HEIGHT_CELL_BL
+        )
+        if cells > MAX_CELLS:
+            raise ValueError(
+                f"the field is too large: its height grid would hold {cells:,.0f} "
+                f"cells of {HEIGHT_CELL_BL:g} body lengths (at most {MAX_CELLS:,}); "
+                "make it shorter or narrower"
+            )
         if self.count > MAX_BOXES:
             raise ValueError(
                 f"the field holds {self.count:,} boxes (area / spacing^2); at most "
