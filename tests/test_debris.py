@@ -246,6 +246,20 @@ def test_training_on_debris_is_deterministic(debris_run, tmp_path):
     assert float(a["fitness"]) == float(b["fitness"])
 
 
+def test_a_run_on_two_terrains_re_simulates_to_its_fitness(tmp_path):
+    """Evaluated, a run's fitness is again the mean over its terrains; its
+    figures are of the first (five get-up start states, not ten)."""
+    out = tmp_path / "getup"
+    r = run_cli(
+        "train", "getup", "--scene", "debris", "--terrains", "2", "--population",
+        "2", "--generations", "1", "--quiet", "--out", str(out),
+    )  # fmt: skip
+    assert r.returncode == 0, r.stderr
+    r = run_cli("evaluate", str(out), "--json")
+    assert r.returncode == 0, r.stderr
+    assert json.loads(r.stdout)["fitness_matches"]
+
+
 def test_evaluate_on_unseen_terrains_prints_the_gap(debris_run):
     r = run_cli("evaluate", str(debris_run), "--terrain-seeds", "10-12", "--json")
     assert r.returncode == 0, r.stderr

@@ -56,7 +56,8 @@ def evaluate_run(
     """Re-simulate a run's best genome; write ``DIR/eval/`` (trajectory CSVs and
     the behaviour's figures), or ``eval_dir`` if given. On the run's training
     terrains, or in ``scene`` if given (then its fitness need not be the
-    recorded one).
+    recorded one). Trained on several terrains, its fitness is theirs
+    combined (as recorded); its metrics and figures are of the first.
 
     ``eval/`` holds derived files only: they are rewritten on every call.
     """
@@ -72,6 +73,8 @@ def evaluate_run(
         best.genome[None], p, backend=backend, engine=cfg.engine,
         record=beh.eval_record, label=f"evaluate {cfg.behaviour}",
     )  # fmt: skip
+    # fitness: over every training terrain; metrics, figures: the first one's
+    res = res.head(len(beh.start_states(p)))
     reference = beh.reference(p, backend=backend, engine=cfg.engine)
     metrics = (  # a behaviour without a reference need not take one
         beh.metrics(res, p, best.genome)

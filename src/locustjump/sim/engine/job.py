@@ -170,6 +170,15 @@ class RolloutResult:
     def __getitem__(self, name: str) -> np.ndarray:
         return self.records[name]
 
+    def head(self, n: int) -> RolloutResult:
+        """Its first ``n`` episodes (``control_steps``: all of them)."""
+        return RolloutResult(
+            {k: v[:n] for k, v in self.records.items()},
+            self.unstable[:n],
+            self.steps[:n],
+            self.control_steps,
+        )
+
     @classmethod
     def concat(cls, parts: Sequence[RolloutResult]) -> RolloutResult:
         names = parts[0].records.keys()
