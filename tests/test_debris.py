@@ -252,7 +252,7 @@ def test_a_run_on_two_terrains_re_simulates_to_its_fitness(tmp_path):
     out = tmp_path / "getup"
     r = run_cli(
         "train", "getup", "--scene", "debris", "--terrains", "2", "--population",
-        "2", "--generations", "1", "--quiet", "--out", str(out),
+        "4", "--generations", "1", "--quiet", "--out", str(out),
     )  # fmt: skip
     assert r.returncode == 0, r.stderr
     r = run_cli("evaluate", str(out), "--json")
