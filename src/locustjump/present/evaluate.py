@@ -49,9 +49,13 @@ def evaluate_run(
 
     ``eval/`` holds derived files only: they are rewritten on every call.
     """
+    out = Path(path)
+    if eval_dir is None:  # the run's own eval/: held from reading to writing
+        rundir.load_run(out)  # named before the lock is asked for
+        with rundir.locked(out):
+            return evaluate_run(out, backend=backend, eval_dir=out / rundir.EVAL)
     if backend is None:
         backend = ThreadBackend()
-    out = Path(path)
     cfg, beh, best = rundir.load_run(out)
     p = cfg.model
     fit, res = beh.evaluate(
@@ -65,11 +69,7 @@ def evaluate_run(
         else beh.metrics(res, p, best.genome, reference)
     )
     episodes = Episodes(beh, res, p, reference)
-    ev = out / rundir.EVAL if eval_dir is None else Path(eval_dir)
-    if eval_dir is None:
-        with rundir.locked(out):
-            return _write(cfg, best, episodes, float(fit[0]), metrics, ev)
-    return _write(cfg, best, episodes, float(fit[0]), metrics, ev)
+    return _write(cfg, best, episodes, float(fit[0]), metrics, Path(eval_dir))
 
 
 def _write(cfg, best, episodes: Episodes, fitness, metrics, ev: Path) -> Evaluation:
