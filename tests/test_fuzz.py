@@ -21,8 +21,9 @@ from locustjump.cli import main
 from locustjump.errors import UserError
 
 
-class Simulated(Exception):
-    """The command got as far as simulating."""
+class Simulated(BaseException):
+    """The command got as far as simulating (not an Exception: the CLI's
+    last-resort handler lets it through)."""
 
 
 def _simulate(self, job):

@@ -65,15 +65,13 @@ def test_unknown_option_before_the_command_is_named(capsys):
 
 
 def test_interrupted_reproduce_says_how_to_continue(tmp_path, capsys, monkeypatch):
-    import sys
+    import locustjump.cli.commands as commands
 
     def interrupted(*args, **kwargs):
         raise KeyboardInterrupt
 
     # the command's own name for it (an interrupt during any stage)
-    monkeypatch.setattr(
-        sys.modules["locustjump.cli.commands"], "reproduce", interrupted
-    )
+    monkeypatch.setattr(commands, "reproduce", interrupted)
     assert main(["reproduce", "--out", str(tmp_path / "r")]) == 130
     assert "rerun the same command" in capsys.readouterr().err
 
