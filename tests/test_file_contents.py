@@ -208,10 +208,12 @@ def test_a_run_stopped_before_its_config_starts_again(tmp_path, capsys, small_ru
     out = tmp_path / "run"
     out.mkdir()
     (out / ".config.tmp.toml").write_text("half")
+    shutil.copy(small_run / rundir.BEST, out / rundir.FROZEN)  # any bytes
     _refused([*_argv(out), "--resume"], capsys, "rerun without --resume", out)
     assert main(_argv(out)) == 0
     assert rundir.generations_done(out) == 2
     assert not (out / ".config.tmp.toml").exists()
+    assert not (out / rundir.FROZEN).exists()  # a kick run builds on none
     (tmp_path / "other").mkdir()
     (tmp_path / "other" / "mine.txt").write_text("x")  # anything else: refused
     _refused(_argv(tmp_path / "other"), capsys, "is not empty", tmp_path / "other")

@@ -290,7 +290,10 @@ def _optimizer(cfg: TrainConfig, task: Behaviour) -> Optimizer:
 
 
 def _create(run: Trainer, frozen: FrozenGenomes | None) -> None:
-    """The files of a new run directory."""
+    """The files of a new run directory (in place of what one stopped before
+    its ``config.toml`` left, :func:`~locustjump.rundir.is_unstarted`)."""
+    for leftover in run.out.iterdir():
+        leftover.unlink()
     if run.beh.requires:
         frozen.save(run.out / rundir.FROZEN)
     rundir.write_config(run.out / rundir.CONFIG, run.cfg)
