@@ -102,20 +102,19 @@ def read_toml(path: str | os.PathLike, what: str = "TOML file") -> dict[str, Any
         raise UserError(f"{path}: not valid TOML ({e})") from None
 
 
-def read_json(path: str | os.PathLike) -> Any:
-    """A JSON file, bounded in size and nesting before it is parsed; numbers
-    must be finite (``NaN`` is not JSON)."""
+def read_json(path: str | os.PathLike) -> dict[str, Any]:
+    """A JSON object (every JSON file of a run is one), bounded in size and
+    nesting before it is parsed."""
     path = Path(path)
     text = read_text(path, "JSON file")
     _shallow(path, text, "JSON file")
-
-    def finite(token: str) -> float:
-        raise ValueError(f"{token} is not a number")
-
     try:
-        return json.loads(text, parse_constant=finite)
+        data = json.loads(text)
     except (ValueError, RecursionError) as e:
         raise UserError(f"{path}: not readable JSON ({e})") from None
+    if not isinstance(data, dict):
+        raise UserError(f"{path}: not a JSON object ({type(data).__name__})")
+    return data
 
 
 def _npy_header(f) -> tuple[tuple[int, ...], np.dtype]:
