@@ -4,8 +4,10 @@ touches anything; two at once never leave a directory mixed (issue #32)."""
 
 import json
 import shutil
+import signal
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -148,3 +150,27 @@ def test_two_writers_at_once(dirs, tmp_path, which):
         assert summary["steps"] == 30 and rows in (30, 31)
     if which == "train":
         assert rundir.generations_done(out) == 1
+
+
+def test_two_reproductions_at_once(tmp_path):
+    """The second of two ``reproduce`` into one directory stops at the lock;
+    the first is then stopped (a quick reproduction takes minutes)."""
+    out = tmp_path / "rep"
+    cmd = [sys.executable, "-m", "locustjump.cli", "reproduce", "--quiet",
+           "--no-videos", "--threads", "1", "--out", str(out)]  # fmt: skip
+    procs = [subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                              text=True) for _ in range(2)]  # fmt: skip
+    try:
+        while all(p.poll() is None for p in procs):
+            time.sleep(0.05)
+        second = next(p for p in procs if p.poll() is not None)
+        err = second.stderr.read()
+        assert second.returncode == 2 and "is in use by process" in err, err
+        assert len(err.strip().splitlines()) == 1, err
+    finally:
+        for p in procs:
+            if p.poll() is None:
+                p.send_signal(signal.SIGTERM)
+            p.wait(timeout=120)
+    first = next(p for p in procs if p is not second)
+    assert first.returncode == 130 and "rerun the same command" in first.stderr.read()
