@@ -161,15 +161,10 @@ def playback_of(path: str | os.PathLike, *, backend: Backend | None = None) -> P
     src = source_of(path)
     record = ("qpos",) if src.memory_names is None else ("qpos", "memory")
     res = rollout(
-        src.controller,
-        src.params,
-        src.starts,
-        src.n_steps,
-        model_params=src.model_params,
-        record=record,
-        backend=backend,
+        src.controller, src.params, src.starts, src.n_steps,
+        model_params=src.model_params, record=record, backend=backend,
         engine=src.engine,
-    )
+    )  # fmt: skip
     captions = None
     if src.memory_names is not None:
         captions = np.array(src.memory_names)[res["memory"][:, :, 0].astype(int)]
