@@ -11,6 +11,7 @@ from locustjump.cli.argtypes import (
     _positive_float,
     _seeds,
     _substeps,
+    _terrain_seeds,
     out_path,
 )
 from locustjump.evo import optimizer_kinds
@@ -20,6 +21,7 @@ from locustjump.runs.reproduce import BUDGETS
 from locustjump.sim import model as lm
 from locustjump.sim.engine.backends import BACKENDS
 from locustjump.sim.engine.job import ENGINES
+from locustjump.sim.scene import scene_names
 from locustjump.tasks import behaviour_names
 from locustjump.tasks.rules import DEFAULT_CHANGE_TIME
 from locustjump.version import __version__
@@ -41,6 +43,37 @@ def _strut_stiffness_arg(p: argparse.ArgumentParser) -> None:
         help="fore and middle legs on sprung hinges of this stiffness at real "
         "scale, e.g. 2e-4 (default 0: rigid struts, the trained creature)",
     )
+
+
+def _add_scene(
+    p: argparse.ArgumentParser, *, of_run: bool = False, train: bool = False
+) -> None:
+    """``--scene`` and ``--terrain-seed`` (``train``: also ``--terrains``)."""
+    own = "the run's own; " if of_run else ""
+    p.add_argument(
+        "--scene",
+        metavar="NAME|FILE",
+        help=f"the world: {' or '.join(scene_names())}, or a TOML file with a "
+        f"[scene] table (a run's config.toml is one) for its parameters "
+        f"(default: {own}flat, the paper's floor)",
+    )
+    p.add_argument(
+        "--terrain-seed",
+        type=_int_at_least("--terrain-seed", 0),
+        metavar="N",
+        help="the terrain of a seeded scene (debris), apart from the evolution's "
+        "--seed (default 0" + (", or the run's first training terrain" if of_run
+        else "") + (": training terrains N .. N+K-1" if train else "") + ")",
+    )  # fmt: skip
+    if train:
+        p.add_argument(
+            "--terrains",
+            type=_int_at_least("--terrains", 1),
+            metavar="K",
+            help="score every genome on K terrains (seeds from --terrain-seed), "
+            'fitness their mean ([scene] aggregate = "min": the worst); '
+            "default 1",
+        )
 
 
 def _add_backend(p: argparse.ArgumentParser) -> None:
@@ -113,6 +146,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="size over a real locust",
     )
     _strut_stiffness_arg(p)
+    _add_scene(p)
     p.add_argument("--out", type=out_path, required=True, help="MJCF file to write")
     p.add_argument("--force", action="store_true", help="overwrite --out")
     p.set_defaults(func=cmd.cmd_model)
@@ -132,6 +166,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="control steps of 1/120 s (default 3000)",
     )
     _strut_stiffness_arg(p)
+    _add_scene(p)
     _add_backend(p)
     p.add_argument("--out", type=out_path, required=True, help="output directory")
     p.add_argument("--force", action="store_true", help="write into a non-empty --out")
@@ -154,6 +189,7 @@ def build_parser() -> argparse.ArgumentParser:
         "--generations", type=_int_at_least("--generations", 1), help="default 1000"
     )
     p.add_argument("--seed", type=_int_at_least("--seed", 0), help="default 0")
+    _add_scene(p, train=True)
     _add_backend(p)
     p.add_argument(
         "--config",
@@ -202,6 +238,15 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("run", metavar="DIR")
     p.add_argument("--json", action="store_true", help="print JSON")
+    _add_scene(p, of_run=True)
+    p.add_argument(
+        "--terrain-seeds",
+        type=_terrain_seeds,
+        metavar="A-B",
+        help="re-score the best genome on these terrains (e.g. 100-119 or "
+        "100,105), print each, their mean and the generalisation gap to the "
+        "training fitness (terrains it trained on are marked)",
+    )
     _add_backend(p)
     p.set_defaults(func=cmd.cmd_evaluate)
 
@@ -218,6 +263,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--step-deg", type=_finite_float("--step-deg"), default=1.0)
     p.add_argument("--from-deg", type=_finite_float("--from-deg"), default=90.0)
     p.add_argument("--to-deg", type=_finite_float("--to-deg"), default=270.0)
+    _add_scene(p, of_run=True)
     _add_backend(p)
     p.set_defaults(func=cmd.cmd_sweep_getup)
 
@@ -253,6 +299,7 @@ def build_parser() -> argparse.ArgumentParser:
         "across seeds in DIR/results.md (a rerun may add seeds)",
     )
     _add_optimizer(p, "rcga")
+    _add_scene(p, train=True)
     _add_backend(p)
     p.add_argument("--out", type=out_path, required=True, metavar="DIR")
     p.add_argument("--quiet", action="store_true", help="no progress bars")
@@ -284,6 +331,7 @@ def build_parser() -> argparse.ArgumentParser:
         "--out", type=out_path, required=True, metavar="OUT", help="output directory"
     )
     p.add_argument("--force", action="store_true", help="write into a non-empty OUT")
+    _add_scene(p, of_run=True)
     _add_backend(p)
     p.set_defaults(func=cmd.cmd_replay)
 
@@ -314,6 +362,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--camera", choices=CAMERAS, default=CAMERAS[0])
     p.add_argument("--force", action="store_true", help="overwrite --out")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
+    _add_scene(p, of_run=True)
     _add_backend(p)
     p.set_defaults(func=cmd.cmd_render)
 
@@ -333,6 +382,7 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="SECONDS",
         help="close after this many seconds (default: when the window is closed)",
     )
+    _add_scene(p, of_run=True)
     p.set_defaults(func=cmd.cmd_view)
 
     p = sub.add_parser(

@@ -48,7 +48,7 @@ class SuccessiveReporter(Reporter):
         composed_figure(
             path,
             [
-                (beh.name, qpos, find_jumps(qpos, p)),
+                (beh.name, qpos, find_jumps(qpos, p, beh.scene)),
                 ("rule-based", rules.qpos, rules.jumps),
             ],
             selected,
