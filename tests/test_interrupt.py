@@ -2,6 +2,7 @@
 one line, exit 130 (1 for a bug), and the same command (or ``--resume``)
 continues to the result of an uninterrupted run, bit for bit."""
 
+import errno
 import os
 import signal
 import subprocess
@@ -30,15 +31,17 @@ def reference(tmp_path_factory) -> Path:
     return out
 
 
-def _interrupt_on_call(monkeypatch, owner, name: str, n: int) -> None:
-    """Ctrl-C arriving in the ``n``-th call of ``owner.name``."""
+def _interrupt_on_call(
+    monkeypatch, owner, name: str, n: int, error: object = KeyboardInterrupt
+) -> None:
+    """Ctrl-C (or ``error``) arriving in the ``n``-th call of ``owner.name``."""
     real = getattr(owner, name)
     calls = []
 
     def once(*args, **kwargs):
         calls.append(1)
         if len(calls) == n:
-            raise KeyboardInterrupt
+            raise error
         return real(*args, **kwargs)
 
     monkeypatch.setattr(owner, name, once)
@@ -61,6 +64,30 @@ def test_ctrl_c_in_the_first_generation_continues_bit_identically(
             _interrupt_on_call(m, ThreadBackend, "run", n)
         assert main(_argv(out)) == 130
     _continues(out, capsys.readouterr().err, reference)
+
+
+@pytest.mark.parametrize("n", [1, 2, 3, 4])
+def test_a_full_disk_in_the_first_generation_is_one_line_and_continues(
+    tmp_path, capsys, monkeypatch, reference, n
+):
+    """The disk fills at the n-th write (config.toml, metrics.csv, best.npz,
+    checkpoint.npz): one line naming the file, exit 2; then as after Ctrl-C."""
+    out = tmp_path / "run"
+    full = OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+    with monkeypatch.context() as m:
+        _interrupt_on_call(m, os, "fsync", n, full)
+        assert main(_argv(out)) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and "No space left on device" in err
+    written = (rundir.CONFIG, rundir.METRICS, rundir.BEST, rundir.CHECKPOINT)
+    assert f"{out / written[n - 1]}: cannot be written" in err, err
+    assert not [p for p in out.rglob(".*")]  # no temporary file left
+    if n <= 2:  # the new run could not be made: nothing is left
+        assert not out.exists()
+        assert main(_argv(out)) == 0
+    else:
+        assert main(_argv(out, resume=True)) == 0
+    assert_same_run(reference, out)
 
 
 def _continues(out: Path, err: str, reference: Path) -> None:
