@@ -28,7 +28,11 @@ writes alone.
 
 Every file is written atomically (temporary file, fsync, rename), so a crash
 leaves the previous complete version, and read without pickle (TOML, JSON,
-CSV, ``.npz`` with ``allow_pickle=False``).
+CSV, ``.npz`` with ``allow_pickle=False``), bounded in size before it is
+parsed (:mod:`.reads`) and checked before anything is written: arrays
+(:mod:`.arrays`), ``metrics.csv`` (:mod:`.metrics`), the checkpoint
+(:mod:`.checkpoint`). A command writes a directory holding its lock
+(:mod:`.lock`, :mod:`.outputs`).
 """
 
 from locustjump.rundir.checkpoint import read_checkpoint, write_checkpoint
