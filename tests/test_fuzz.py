@@ -6,6 +6,7 @@ passed (what a command then does is tested elsewhere); this keeps each example
 to milliseconds.
 """
 
+import atexit
 import contextlib
 import functools
 import io
@@ -210,6 +211,7 @@ def _runs() -> dict[str, Path]:
     """A small kick run trained here, and the shipped composed run (its frozen
     genomes in ``simple.npz``, as runs made before config format 2 hold them)."""
     base = Path(tempfile.mkdtemp(prefix="locustjump-fuzz-"))
+    atexit.register(shutil.rmtree, base, True)
     kick = base / "kick"
     argv = ["train", "kick", "--population", "4", "--generations", "2", "--seed",
             "1", "--threads", "1", "--quiet", "--out", str(kick)]  # fmt: skip
