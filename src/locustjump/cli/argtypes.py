@@ -20,11 +20,19 @@ def _as(kind, noun: str, name: str, text: str):
         ) from None
 
 
+#: the largest integer a run records (TOML's integers are 64-bit)
+INT_MAX = 2**63 - 1
+
+
 def _int_at_least(name: str, lo: int):
     def parse(text: str) -> int:
         v = _as(int, "an integer", name, text)
         if v < lo:
             raise argparse.ArgumentTypeError(f"{name} must be >= {lo}, got {v}")
+        if v > INT_MAX:
+            raise argparse.ArgumentTypeError(
+                f"{name} must be at most 2**63-1 (a 64-bit integer), got {v}"
+            )
         return v
 
     return parse

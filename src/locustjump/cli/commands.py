@@ -72,10 +72,10 @@ def _backend(args: argparse.Namespace):
 
 
 def cmd_model(args: argparse.Namespace) -> int:
-    out = rundir.prepare_out_file(args.out, force=args.force)
     p = lm.LocustParams(scale=args.scale, strut_stiffness=args.strut_stiffness)
     scene = _scene(args)
-    rundir.atomic_write_text(out, lm.to_mjcf(p, scene=scene))
+    with rundir.output_file(args.out, force=args.force) as out:
+        rundir.atomic_write_text(out, lm.to_mjcf(p, scene=scene))
     print(
         f"wrote {out} (scale {p.scale:g}, body length {p.body_length:.3g} m, "
         f"scene {scene.name})"
@@ -86,12 +86,12 @@ def cmd_model(args: argparse.Namespace) -> int:
 def cmd_rules(args: argparse.Namespace) -> int:
 
     scene = _scene(args)
-    out = rundir.check_out_dir(args.out, force=args.force)  # made once it ran
     p = lm.LocustParams(strut_stiffness=args.strut_stiffness)
-    run = write_rules_run(
-        out, args.change_time, args.steps, model_params=p, backend=_backend(args),
-        scene=scene,
-    )  # fmt: skip
+    with rundir.output_dir(args.out, force=args.force) as out:
+        run = write_rules_run(
+            out, args.change_time, args.steps, model_params=p,
+            backend=_backend(args), scene=scene,
+        )  # fmt: skip
     apexes = ", ".join(f"{j.apex_height:.2f}" for j in run.jumps) or "none"
     print(f"{len(run.jumps)} jumps in {args.steps} steps; apex heights [m]: {apexes}")
     if run.unstable:
@@ -284,15 +284,18 @@ def cmd_report(args: argparse.Namespace) -> int:
 
 def cmd_compare(args: argparse.Namespace) -> int:
 
-    figure = None
     if args.figure is not None:
-        figure = rundir.prepare_out_file(
-            args.figure, force=args.force, option="--figure"
-        )
+        rundir.prepare_out_file(args.figure, force=args.force, option="--figure")
     groups = load_groups(args.dirs, by=args.by)
-    print(table(groups, args.reference))
-    if figure is not None:
-        print(f"wrote {convergence_figure(groups, figure, title=args.title)}")
+    text = table(groups, args.reference)
+    if args.figure is not None:
+        with rundir.output_file(
+            args.figure, force=args.force, option="--figure"
+        ) as figure:
+            convergence_figure(groups, figure, title=args.title)
+    print(text)
+    if args.figure is not None:
+        print(f"wrote {args.figure}")
     return 0
 
 

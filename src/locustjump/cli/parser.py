@@ -130,6 +130,12 @@ def build_parser() -> argparse.ArgumentParser:
         ),
     )
     ap.add_argument("--version", action="version", version=f"locustjump {__version__}")
+    ap.add_argument(
+        "--debug",
+        action="store_true",
+        help="on an unexpected error, also print its traceback (anywhere on the "
+        "command line)",
+    )
     sub = ap.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
     p = sub.add_parser("model", help="write the MJCF model of the creature")

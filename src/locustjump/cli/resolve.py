@@ -41,7 +41,12 @@ def resolve_config(
             raise UserError("--resume reads the run's own config.toml; drop --config")
         path = Path(out) / rundir.CONFIG
         if not path.is_file():
-            raise UserError(f"--resume: {out} holds no run (no {rundir.CONFIG})")
+            stopped = Path(out).is_dir() and rundir.is_unstarted(Path(out))
+            raise UserError(
+                f"--resume: {out} holds no run (no {rundir.CONFIG})"
+                + ("; it was stopped before it started: rerun without --resume"
+                   if stopped else "")
+            )  # fmt: skip
         cfg = rundir.load_config(path)
         if cfg.behaviour != behaviour:  # the command's behaviour, not an option
             raise UserError(

@@ -61,9 +61,15 @@ def evaluate_run(
 
     ``eval/`` holds derived files only: they are rewritten on every call.
     """
+    out = Path(path)
+    if eval_dir is None:  # the run's own eval/: held from reading to writing
+        rundir.load_run(out)  # named before the lock is asked for
+        with rundir.locked(out):
+            return evaluate_run(
+                out, backend=backend, eval_dir=out / rundir.EVAL, scene=scene
+            )
     if backend is None:
         backend = ThreadBackend()
-    out = Path(path)
     cfg, beh, best = rundir.load_run(out)
     elsewhere = scene is not None and Terrains(scene) != beh.terrains
     if scene is not None:
@@ -82,11 +88,9 @@ def evaluate_run(
         else beh.metrics(res, p, best.genome, reference)
     )
     episodes = Episodes(beh, res, p, reference)
-    ev = out / rundir.EVAL if eval_dir is None else Path(eval_dir)
-    if eval_dir is None:
-        with rundir.locked(out):
-            return _write(cfg, best, episodes, float(fit[0]), metrics, ev, elsewhere)
-    return _write(cfg, best, episodes, float(fit[0]), metrics, ev, elsewhere)
+    return _write(
+        cfg, best, episodes, float(fit[0]), metrics, Path(eval_dir), elsewhere
+    )
 
 
 def _write(

@@ -13,7 +13,6 @@ Headless Linux renders with EGL (``MUJOCO_GL=egl``, Debian package
 
 from __future__ import annotations
 
-import contextlib
 import os
 import sys
 import threading
@@ -186,16 +185,11 @@ def playback_of(
     src = source_of(path, scene)
     record = ("qpos",) if src.memory_names is None else ("qpos", "memory")
     res = rollout(
-        src.controller,
-        src.params,
-        src.starts,
-        src.n_steps,
-        model_params=src.model_params,
-        record=record,
-        backend=backend,
+        src.controller, src.params, src.starts, src.n_steps,
+        model_params=src.model_params, record=record, backend=backend,
         engine=src.engine,
         scene=src.scene,
-    )
+    )  # fmt: skip
     captions = None
     if src.memory_names is not None:
         captions = np.array(src.memory_names)[res["memory"][:, :, 0].astype(int)]
@@ -302,7 +296,7 @@ def _writer(path: Path, fps: float):
         ) from None
     return iio.get_writer(
         path, fps=fps, codec="libx264", quality=7, macro_block_size=16,
-        ffmpeg_log_level="error",
+        ffmpeg_log_level="quiet",  # its errors end as ours
     )  # fmt: skip
 
 
@@ -322,12 +316,14 @@ def render_video(
     size = TILE if out.suffix.lower() == ".gif" else None
     it = frames(pb, fps=fps, camera=camera, size=size)
     first = next(it)  # fails early (renderer) before a file is opened
-    with rundir.atomic_path(out, partial=".partial") as tmp, _writer(tmp, fps) as w:
-        w.append_data(first)
-        for n, frame in enumerate(it, start=2):
-            w.append_data(frame)
-            if progress is not None:
-                progress(n)
+    with rundir.atomic_path(out, partial=".partial") as tmp:
+        open(tmp, "wb").close()  # an unwritable place is named here, not by ffmpeg
+        with _writer(tmp, fps) as w:
+            w.append_data(first)
+            for n, frame in enumerate(it, start=2):
+                w.append_data(frame)
+                if progress is not None:
+                    progress(n)
     return out
 
 
@@ -348,9 +344,9 @@ def render_run(
     check_video_path(out, force=force)
     if camera not in CAMERAS:
         raise UserError(f"unknown camera {camera!r}; one of {', '.join(CAMERAS)}")
-    pb = playback_of(path, backend=backend, scene=scene)
-    inside = Path(out).resolve().parent == Path(path).resolve()
-    with rundir.locked(path) if inside else contextlib.nullcontext():
+    with rundir.locked(out.parent):  # the directory written into
+        check_video_path(out, force=force)  # another process was first?
+        pb = playback_of(path, backend=backend, scene=scene)
         return _encode(pb, out, fps, camera, force, progress)
 
 

@@ -12,7 +12,6 @@ paper) and a section per stage.
 from __future__ import annotations
 
 import base64
-import csv
 import html
 import json
 import os
@@ -166,26 +165,22 @@ def _run_section(d: Path, metrics: dict[str, Any] | None, level: int = 2) -> str
     """The part of the page about training run ``d``."""
     h = f"h{level}"
     parts = [f"<{h}>Configuration</{h}>"]
-    parts.append(f"<pre>{html.escape((d / rundir.CONFIG).read_text())}</pre>")
-    if (d / rundir.METRICS).is_file():
-        with open(d / rundir.METRICS, newline="") as f:
-            rows = list(csv.DictReader(f))
-        if rows:
-            last = rows[-1]
-            parts.append(f"<{h}>Training</{h}>")
-            parts.append(
-                _table(
-                    {
-                        "generations": int(last["generation"]),
-                        "best fitness (last generation)": float(last["best"]),
-                        "population mean (last generation)": float(last["mean"]),
-                        "wall time (s)": round(
-                            sum(float(r["wall_s"]) for r in rows), 1
-                        ),
-                        "control steps/s (last generation)": float(last["steps_per_s"]),
-                    }
-                )
+    parts.append(f"<pre>{html.escape(rundir.read_text(d / rundir.CONFIG))}</pre>")
+    rows = rundir.read_metrics(d / rundir.METRICS)
+    if len(rows):
+        last = rows[-1]
+        parts.append(f"<{h}>Training</{h}>")
+        parts.append(
+            _table(
+                {
+                    "generations": int(last["generation"]),
+                    "best fitness (last generation)": float(last["best"]),
+                    "population mean (last generation)": float(last["mean"]),
+                    "wall time (s)": round(float(rows["wall_s"].sum()), 1),
+                    "control steps/s (last generation)": float(last["steps_per_s"]),
+                }
             )
+        )
     fit = d / rundir.FITNESS_PNG
     if fit.is_file():
         parts.append(_figure(fit, "best and mean fitness per generation"))
@@ -230,15 +225,20 @@ def write_report(path: str | os.PathLike, *, backend: Backend | None = None) -> 
     d = Path(path)
     if not d.is_dir():
         raise UserError(f"{d}: no such directory")
+    with rundir.locked(d):  # from the first file read to report.html
+        return _write_report(d, backend)
+
+
+def _write_report(d: Path, backend: Backend | None) -> Path:
     if rundir.is_multiseed(d):
         if not (d / rundir.RESULTS).is_file():
             raise UserError(f"{d}: the reproduction has no {rundir.RESULTS} yet")
-        body = [markdown_to_html((d / rundir.RESULTS).read_text(), d)]
+        body = [markdown_to_html(rundir.read_text(d / rundir.RESULTS), d)]
         title = f"locustjump reproduction over seeds: {d.name}"
     elif rundir.is_reproduction(d):
         if not (d / rundir.RESULTS).is_file():
             raise UserError(f"{d}: the reproduction has no {rundir.RESULTS} yet")
-        body = [markdown_to_html((d / rundir.RESULTS).read_text(), d)]
+        body = [markdown_to_html(rundir.read_text(d / rundir.RESULTS), d)]
         for stage in sorted(p for p in d.iterdir() if rundir.is_run(p)):
             mfile = rundir.eval_metrics_path(stage)
             metrics = rundir.read_json(mfile) if mfile.is_file() else None
@@ -251,6 +251,7 @@ def write_report(path: str | os.PathLike, *, backend: Backend | None = None) -> 
             body += [_figure(v, v.name) for v in rules_videos]
         title = f"locustjump reproduction: {d.name}"
     elif rundir.is_run(d):
+        rundir.read_metrics(d / rundir.METRICS)  # checked before eval/ is written
         ev = evaluate_run(d, backend=backend)
         metrics = {
             "re-simulated fitness": ev.fitness,
@@ -265,6 +266,5 @@ def write_report(path: str | os.PathLike, *, backend: Backend | None = None) -> 
     out = d / rundir.REPORT
     # a reproduction's results.md brings its own heading
     heading = not (rundir.is_reproduction(d) or rundir.is_multiseed(d))
-    with rundir.locked(d):
-        rundir.atomic_write_text(out, _page(title, "\n".join(body), heading=heading))
+    rundir.atomic_write_text(out, _page(title, "\n".join(body), heading=heading))
     return out

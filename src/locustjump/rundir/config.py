@@ -76,6 +76,9 @@ class TrainConfig:
             raise ValueError(f"generations must be >= 1, got {self.generations}")
         if self.seed < 0:
             raise ValueError(f"seed must be >= 0, got {self.seed}")
+        for name in ("seed", "generations"):  # config.toml holds 64-bit integers
+            if getattr(self, name) >= 2**63:
+                raise ValueError(f"{name} must be < 2**63, got {getattr(self, name)}")
         if self.engine not in ENGINES:
             raise ValueError(
                 f"engine must be one of {', '.join(ENGINES)}, got {self.engine!r}"
@@ -231,6 +234,10 @@ def coerce(value: Any, default: Any, key: str, source: str) -> Any:
         ok = isinstance(value, bool)
     elif isinstance(default, int):
         ok = isinstance(value, int) and not isinstance(value, bool)
+        if ok and not -(2**63) <= value < 2**63:
+            raise UserError(
+                f"{source}: {key} must be a 64-bit integer (TOML's), got {value}"
+            )
     elif isinstance(default, float):
         ok = isinstance(value, (int, float)) and not isinstance(value, bool)
         value = float(value) if ok else value

@@ -45,6 +45,23 @@ def is_run(d: Path) -> bool:
     return (Path(d) / CONFIG).is_file()
 
 
+#: what a new run writes before its config.toml, and their temporary files
+_BEFORE_CONFIG = (FROZEN, CONFIG, METRICS)
+
+
+def is_unstarted(d: Path) -> bool:
+    """Whether directory ``d`` holds no run but what a new run writes before
+    its ``config.toml`` (a run stopped then: it can be started again)."""
+    d = Path(d)
+    if is_run(d):
+        return False
+    leftovers = {FROZEN}
+    for name in _BEFORE_CONFIG:
+        stem, dot, suffix = name.partition(".")
+        leftovers.add(f".{stem}.tmp{dot}{suffix}")
+    return all(p.name in leftovers for p in d.iterdir())
+
+
 def is_reproduction(d: Path) -> bool:
     return (Path(d) / MARKER).is_file()
 

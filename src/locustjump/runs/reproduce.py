@@ -169,8 +169,8 @@ def replay(
     found = [s for s in TRAINED if (src / s / rundir.BEST).is_file()]
     if not found:
         raise UserError(f"{src}: holds no trained stage yet")
-    dest = rundir.check_out_dir(out, force=force)  # made as it is written
-    return [
-        (s, evaluate_run(src / s, backend=backend, eval_dir=dest / s, scene=scene))
-        for s in found
-    ]
+    with rundir.output_dir(out, force=force) as dest:
+        return [
+            (s, evaluate_run(src / s, backend=backend, eval_dir=dest / s, scene=scene))
+            for s in found
+        ]

@@ -140,7 +140,7 @@ def sweep_run(
         raise UserError(
             f"{path}: holds a {cfg.behaviour!r} run; sweep-getup needs a getup run"
         )
-    sw = sweep_getup(best.genome, cfg.model, angles, backend=backend,
-                     engine=cfg.engine, scene=scene or cfg.scene.scene)  # fmt: skip
-    with rundir.locked(path):
+    with rundir.locked(path):  # from the simulation to the last file
+        sw = sweep_getup(best.genome, cfg.model, angles, backend=backend,
+                         engine=cfg.engine, scene=scene or cfg.scene.scene)  # fmt: skip
         return sw, write_sweep(Path(path), sw)
