@@ -11,11 +11,12 @@ from locustjump.cli.resolve import resolve_config
 from locustjump.errors import UserError
 from locustjump.present.compare import convergence_figure, load_groups, table
 from locustjump.present.evaluate import evaluate_run
-from locustjump.present.render import render_run, view
+from locustjump.present.render import render_run
 from locustjump.present.report import write_report
 from locustjump.present.rules import write_rules_run
 from locustjump.present.stages import reporter_of
 from locustjump.present.stages.getup import sweep_run
+from locustjump.present.viewer import view
 from locustjump.runs.multiseed import reproduce_seeds
 from locustjump.runs.reproduce import replay, reproduce
 from locustjump.runs.trainer import train

@@ -4,7 +4,8 @@
 training run, or a rule-based run) with the engine and keeps every control
 step's ``qpos``; :func:`render_video` draws it offscreen with MuJoCo's renderer
 (cameras ``track`` and ``side`` of the MJCF) and encodes it with ``imageio``
-(extra ``locustjump[video]``); :func:`view` plays it in ``mujoco.viewer``.
+(extra ``locustjump[video]``); :func:`locustjump.present.viewer.view` plays
+it in ``mujoco.viewer``.
 
 Headless Linux renders with EGL (``MUJOCO_GL=egl``, Debian package
 ``libegl1``, the default here when no display is set) or OSMesa
@@ -15,9 +16,6 @@ from __future__ import annotations
 
 import contextlib
 import os
-import sys
-import threading
-import time
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
@@ -28,14 +26,13 @@ import numpy as np
 from PIL import Image, ImageDraw, ImageFont
 from tqdm import tqdm
 
-from locustjump import rundir
+from locustjump import opengl, rundir
 from locustjump.errors import UserError
 from locustjump.rundir.config import from_table
 from locustjump.rundir.migrations import rules_summary
 from locustjump.sim import model as lm
 from locustjump.sim import names
 from locustjump.sim.controller import Controller
-from locustjump.sim.engine.episode import Episode
 from locustjump.sim.engine.rollout import DEFAULT_ENGINE, StartStates, rollout
 from locustjump.sim.model import CONTROL_DT
 from locustjump.tasks.rules import RuleController
@@ -179,6 +176,8 @@ def playback_of(path: str | os.PathLike, *, backend: Backend | None = None) -> P
 
 def make_renderer(m: mujoco.MjModel, width: int, height: int) -> mujoco.Renderer:
     """An offscreen renderer, or :class:`RenderUnavailable` saying what is missing."""
+    if opengl.PROBLEM is not None:
+        raise RenderUnavailable(f"cannot render offscreen: {opengl.PROBLEM}")
     try:
         return mujoco.Renderer(m, height=height, width=width)
     except Exception as e:  # GL back ends fail in many ways (ImportError, ...)
@@ -336,65 +335,3 @@ def _encode(
             pb, out, fps=fps, camera=camera, force=force,
             progress=lambda n: bar.update(n - bar.n),
         )  # fmt: skip
-
-
-def view(path: str | os.PathLike, *, duration: float | None = None) -> None:
-    """Play what ``path`` holds live in MuJoCo's interactive viewer: the
-    controller acts every 1/120 s of simulated time, in real time, looping over
-    the start states until the window is closed (or ``duration`` seconds have
-    passed). Drag the body with the mouse to perturb it."""
-    if sys.platform.startswith("linux") and not (
-        os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")
-    ):
-        raise UserError(
-            "no display (DISPLAY is not set): the viewer needs a desktop session; "
-            "use `locustjump render` to make a video instead"
-        )
-    src = source_of(path)
-    import mujoco.viewer
-
-    ep = Episode(src.model_params)
-    ep.reset(src.starts, 0)
-    before = set(threading.enumerate())
-    try:
-        handle = mujoco.viewer.launch_passive(ep.model, ep.data)
-    except Exception as e:
-        raise UserError(f"cannot open the MuJoCo viewer: {e}") from None
-    end = None if duration is None else time.perf_counter() + duration
-    try:
-        _play(handle, ep, src, end)
-    finally:
-        handle.close()
-        # let the viewer's thread tear its window down before the interpreter
-        # does (GLFW's atexit terminate racing it crashes or hangs)
-        for th in set(threading.enumerate()) - before:
-            th.join(timeout=10)
-
-
-def _play(handle, ep: Episode, src: Source, end: float | None) -> None:
-    ctl = src.controller
-    prepared = ctl.prepare(src.params)
-    with handle as v:
-        with v.lock():  # follow the body, from the side, 3 body lengths away
-            v.cam.type = mujoco.mjtCamera.mjCAMERA_TRACKING
-            v.cam.trackbodyid = ep.model.body(names.BODY).id
-            v.cam.distance = 3 * src.model_params.body_length
-            v.cam.azimuth, v.cam.elevation = 90.0, -10.0
-        while v.is_running():
-            for e in range(len(src.starts)):
-                with v.lock():
-                    obs = ep.reset(src.starts, e)
-                memory = np.zeros((1, ctl.memory_size))
-                for t in range(src.n_steps):
-                    start = time.perf_counter()
-                    if not v.is_running() or (end is not None and start > end):
-                        return
-                    deltas, memory = ctl.act(
-                        prepared, memory, obs, ep.data.ctrl[None], t
-                    )
-                    with v.lock():
-                        obs = ep.step(deltas)
-                    v.sync()
-                    if ep.unstable:
-                        break
-                    time.sleep(max(0.0, CONTROL_DT - (time.perf_counter() - start)))
