@@ -170,8 +170,17 @@ def playback_of(path: str | os.PathLike, *, backend: Backend | None = None) -> P
     )
     captions = None
     if src.memory_names is not None:
-        captions = np.array(src.memory_names)[res["memory"][:, :, 0].astype(int)]
+        captions = np.array(src.memory_names)[acting(res["memory"][:, :, 0])]
     return Playback(src.model_params, res["qpos"], src.labels, captions, src.title)
+
+
+def acting(selected: np.ndarray) -> np.ndarray:
+    """(k, T + 1) index of the behaviour that acts from each recorded state
+    on, from the memory recorded after each step (``selected[:, t]``: chosen
+    for step t - 1; ``selected[:, 0]``, the initial memory, chose nothing).
+    The last state shows the last step's."""
+    idx = selected.astype(int)
+    return np.concatenate([idx[:, 1:], idx[:, -1:]], axis=1)
 
 
 def make_renderer(m: mujoco.MjModel, width: int, height: int) -> mujoco.Renderer:

@@ -14,11 +14,12 @@ from __future__ import annotations
 import base64
 import csv
 import html
-import json
 import os
-import re
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
+
+from markdown_it import MarkdownIt
+from markdown_it.token import Token
 
 from locustjump import rundir
 from locustjump.errors import UserError
@@ -68,85 +69,77 @@ def _figure(path: Path, caption: str = "") -> str:
     return f"<figure>{media}{cap}</figure>"
 
 
-def _inline(text: str) -> str:
-    """`code`, **bold** and [links](to) of one line of Markdown, HTML-escaped;
-    a link to a ``results.md`` goes to the ``report.html`` beside it."""
-    out = html.escape(text, quote=False)
-    out = re.sub(r"`([^`]+)`", r"<code>\1</code>", out)
-    out = re.sub(
-        r"\[([^\]]+)\]\(([^)\s]+)\)",
-        lambda m: f'<a href="{html.escape(_html_twin(m.group(2)))}">{m.group(1)}</a>',
-        out,
-    )
-    return re.sub(r"\*\*([^*]+)\*\*", r"<strong>\1</strong>", out)
+#: CommonMark with pipe tables (what results.md is written in); raw HTML in
+#: the Markdown is escaped, not passed through
+_MARKDOWN = MarkdownIt("commonmark", {"html": False}).enable("table")
 
 
 def _html_twin(href: str) -> str:
+    """A link to a ``results.md`` goes to the ``report.html`` beside it."""
     if href.endswith(rundir.RESULTS):
         return href[: -len(rundir.RESULTS)] + rundir.REPORT
     return href
 
 
+def _embed(token: Token, base: Path) -> None:
+    """Make an image token of the Markdown self-contained: a figure relative
+    to ``base`` becomes a data URI (a video, a <video>), a missing one text."""
+    src = token.attrGet("src") or ""
+    path = base / src
+    alt = token.content
+    if not (path.is_file() and path.suffix.lower() in _MIME):
+        token.type, token.content, token.children = (
+            "text",
+            f"(missing figure {src})",
+            None,
+        )
+    elif path.suffix.lower() == ".mp4":
+        token.type, token.content, token.children = (
+            "html_inline",
+            _figure(path, alt),
+            None,
+        )
+    else:
+        token.attrSet("src", _data_uri(path))
+
+
 def markdown_to_html(text: str, base: Path) -> str:
-    """The Markdown subset that :func:`locustjump.runs.reproduce.results_markdown`
-    writes (headings, paragraphs, pipe tables, images), images embedded from
-    paths relative to ``base``."""
-    out: list[str] = []
-    lines = text.splitlines()
-    i = 0
-    while i < len(lines):
-        line = lines[i].rstrip()
-        if not line:
-            i += 1
-        elif m := re.fullmatch(r"(#{1,6}) (.*)", line):
-            n = len(m.group(1))
-            out.append(f"<h{n}>{_inline(m.group(2))}</h{n}>")
-            i += 1
-        elif m := re.fullmatch(r"!\[([^\]]*)\]\(([^)]+)\)", line):
-            path = base / m.group(2)
-            if path.is_file() and path.suffix.lower() in _MIME:
-                out.append(_figure(path, m.group(1)))
-            else:
-                out.append(f"<p>(missing figure {html.escape(m.group(2))})</p>")
-            i += 1
-        elif line.startswith("|"):
-            rows = []
-            while i < len(lines) and lines[i].startswith("|"):
-                cells = [c.strip() for c in lines[i].strip().strip("|").split("|")]
-                if not all(re.fullmatch(r":?-+:?", c) for c in cells):
-                    rows.append(cells)
-                i += 1
-            head, *body = rows
-            out.append("<table><thead><tr>")
-            out += [f"<th>{_inline(c)}</th>" for c in head]
-            out.append("</tr></thead><tbody>")
-            for r in body:
-                out.append("<tr>" + "".join(f"<td>{_inline(c)}</td>" for c in r))
-                out.append("</tr>")
-            out.append("</tbody></table>")
-        else:
-            para = []
-            while (
-                i < len(lines)
-                and lines[i].strip()
-                and not re.match(r"(#{1,6} |!\[|\|)", lines[i])
-            ):
-                para.append(lines[i].strip())
-                i += 1
-            out.append(f"<p>{_inline(' '.join(para))}</p>")
-    return "\n".join(out)
+    """Markdown (CommonMark + pipe tables, by markdown-it-py) as HTML, images
+    embedded from paths relative to ``base``, links to a ``results.md`` sent
+    to the ``report.html`` beside it."""
+    tokens = _MARKDOWN.parse(text)
+    for block in tokens:
+        for token in block.children or ():
+            if token.type == "image":
+                _embed(token, base)
+            elif token.type == "link_open":
+                token.attrSet("href", _html_twin(token.attrGet("href") or ""))
+    return _MARKDOWN.renderer.render(tokens, _MARKDOWN.options, {})
+
+
+def _cell(v: Any) -> str:
+    """One value of a table as HTML: a table of a table, a list as its items."""
+    if isinstance(v, dict):
+        return _table(v)
+    if isinstance(v, list | tuple):
+        return html.escape(", ".join(_text(x) for x in v))
+    return html.escape(_text(v))
+
+
+def _text(v: Any) -> str:
+    if isinstance(v, float):
+        return f"{v:.6g}"
+    if isinstance(v, dict):
+        return ", ".join(f"{k} {_text(x)}" for k, x in v.items())
+    return str(v)
 
 
 def _table(d: dict[str, Any]) -> str:
-    rows = []
-    for k, v in d.items():
-        if isinstance(v, float):
-            text = f"{v:.6g}"
-        elif isinstance(v, dict | list):
-            text = json.dumps(v)
-        else:
-            text = str(v)
-        rows.append(f"<tr><th>{html.escape(k)}</th><td>{html.escape(text)}</td></tr>")
+    """A two-column table, key and value; a value that is a table nests."""
+    rows = [
+        f"<tr><th>{html.escape(str(k))}</th><td>{_cell(v)}</td></tr>"
+        for k, v in d.items()
+    ]
     return "<table>" + "".join(rows) + "</table>"
 
 
@@ -166,7 +159,11 @@ def _run_section(d: Path, metrics: dict[str, Any] | None, level: int = 2) -> str
     """The part of the page about training run ``d``."""
     h = f"h{level}"
     parts = [f"<{h}>Configuration</{h}>"]
-    parts.append(f"<pre>{html.escape((d / rundir.CONFIG).read_text())}</pre>")
+    parts.append(
+        f"<p>{html.escape(rundir.CONFIG)}: every setting of the run "
+        "(a table per section)</p>"
+    )
+    parts.append(_table(rundir.read_toml(d / rundir.CONFIG)))
     if (d / rundir.METRICS).is_file():
         with open(d / rundir.METRICS, newline="") as f:
             rows = list(csv.DictReader(f))
