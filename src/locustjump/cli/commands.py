@@ -110,7 +110,10 @@ def cmd_train(args: argparse.Namespace) -> int:
 
 def cmd_evaluate(args: argparse.Namespace) -> int:
 
-    ev = evaluate_run(args.run, backend=_backend(args))
+    eval_dir = None
+    if args.out is not None:
+        eval_dir = rundir.check_out_dir(args.out, force=args.force)
+    ev = evaluate_run(args.run, backend=_backend(args), eval_dir=eval_dir)
     if args.json:
         print(json.dumps(ev.to_dict(), indent=2))
     else:
@@ -217,7 +220,10 @@ def cmd_view(args: argparse.Namespace) -> int:
 
 def cmd_report(args: argparse.Namespace) -> int:
 
-    print(f"wrote {write_report(args.dir, backend=_backend(args))}")
+    out = None
+    if args.out is not None:
+        out = rundir.prepare_out_file(args.out, force=args.force)
+    print(f"wrote {write_report(args.dir, backend=_backend(args), out=out)}")
     return 0
 
 

@@ -209,12 +209,26 @@ def build_parser() -> argparse.ArgumentParser:
         help="re-simulate a run's best genome, print its metrics",
         description=(
             "Re-simulate the best genome of run DIR; print its fitness (checked "
-            "against the recorded one) and behaviour metrics; write DIR/eval/."
+            "against the recorded one) and behaviour metrics; write trajectories "
+            "and figures into DIR/eval/ (for a shipped run under results/: "
+            "runs/shipped/<same path>/eval/) or --out."
         ),
     )
     p.add_argument("run", metavar="DIR", help="a training run directory")
     p.add_argument(
         "--json", action="store_true", help="print JSON (default: readable text)"
+    )
+    p.add_argument(
+        "--out",
+        type=out_path,
+        metavar="OUT",
+        help="write the trajectories and figures here (default: DIR/eval, "
+        "rewritten on every call; a shipped run's: runs/shipped/<path>/eval)",
+    )
+    p.add_argument(
+        "--force",
+        action="store_true",
+        help="write into a non-empty --out (default: refuse)",
     )
     add_backend(p)
     p.set_defaults(func=cmd.cmd_evaluate)
@@ -225,7 +239,8 @@ def build_parser() -> argparse.ArgumentParser:
         description=(
             "Evaluate a getup run's best controller from start states rolled in "
             "--step-deg steps between --from-deg and --to-deg (plus the 5 "
-            "training states); write DIR/sweep/sweep.csv and sweep.png."
+            "training states); write DIR/sweep/sweep.csv and sweep.png (for a "
+            "shipped run under results/: runs/shipped/<same path>/sweep/)."
         ),
     )
     p.add_argument("run", metavar="DIR", help="a getup training run directory")

@@ -82,11 +82,23 @@ def add_showing_commands(sub: argparse._SubParsersAction) -> None:
         description=(
             "Write DIR/report.html for a training run or a reproduction: config, "
             "fitness curves, metrics, figures and videos embedded (no network "
-            "needed); for a reproduction also the results table against the paper."
+            "needed); for a reproduction also the results table against the paper. "
+            "Only the page is written: DIR/report.html by default (for a shipped "
+            "run under results/: runs/shipped/<same path>/report.html)."
         ),
     )
     p.add_argument(
         "dir", metavar="DIR", help="a training run or a reproduction directory"
+    )
+    p.add_argument(
+        "--out",
+        type=out_path,
+        metavar="FILE",
+        help="the page to write (default: DIR/report.html, rewritten on every "
+        "call; a shipped run's: runs/shipped/<path>/report.html)",
+    )
+    p.add_argument(
+        "--force", action="store_true", help="overwrite --out (default: refuse)"
     )
     add_backend(p)
     p.set_defaults(func=cmd.cmd_report)

@@ -44,8 +44,10 @@ def evaluate_run(
     backend: Backend | None = None,
     eval_dir: str | os.PathLike | None = None,
 ) -> Evaluation:
-    """Re-simulate a run's best genome; write ``DIR/eval/`` (trajectory CSVs and
-    the behaviour's figures), or ``eval_dir`` if given.
+    """Re-simulate a run's best genome; write its trajectory CSVs and the
+    behaviour's figures into ``eval_dir``, by default ``DIR/eval/`` (for a
+    shipped run under ``results/``: ``runs/shipped/<same path>/eval/``,
+    :func:`locustjump.rundir.derived_dir`).
 
     ``eval/`` holds derived files only: they are rewritten on every call.
     """
@@ -65,8 +67,8 @@ def evaluate_run(
         else beh.metrics(res, p, best.genome, reference)
     )
     episodes = Episodes(beh, res, p, reference)
-    ev = out / rundir.EVAL if eval_dir is None else Path(eval_dir)
-    if eval_dir is None:
+    ev = rundir.derived_dir(out) / rundir.EVAL if eval_dir is None else Path(eval_dir)
+    if ev.resolve().parent == out.resolve():  # inside the run: one writer
         with rundir.locked(out):
             return _write(cfg, best, episodes, float(fit[0]), metrics, ev)
     return _write(cfg, best, episodes, float(fit[0]), metrics, ev)

@@ -322,8 +322,14 @@ def render_run(
     progress: bool = False,
     backend: Backend | None = None,
 ) -> Path:
-    """Video of what directory ``path`` holds (default ``path/video.mp4``)."""
-    out = Path(path) / rundir.VIDEO if out is None else Path(out)
+    """Video of what directory ``path`` holds (default ``path/video.mp4``; a
+    shipped run's under ``runs/shipped/``: :func:`locustjump.rundir.derived_dir`)."""
+    if out is None:
+        out = rundir.derived_dir(Path(path)) / rundir.VIDEO
+        if not Path(path).is_dir():
+            raise UserError(f"{path}: no such directory")
+        out.parent.mkdir(parents=True, exist_ok=True)
+    out = Path(out)
     check_video_path(out, force=force)
     if camera not in CAMERAS:
         raise UserError(f"unknown camera {camera!r}; one of {', '.join(CAMERAS)}")

@@ -15,6 +15,7 @@ import base64
 import csv
 import html
 import os
+import tempfile
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -147,16 +148,22 @@ def _videos(d: Path) -> list[Path]:
     return sorted(p for p in d.glob("*") if p.suffix.lower() in (".mp4", ".gif"))
 
 
-def _figures(d: Path) -> list[Path]:
+def _figures(d: Path, eval_dir: Path | None = None) -> list[Path]:
     found = []
-    for sub in (rundir.EVAL, rundir.SWEEP):
-        if (d / sub).is_dir():
-            found += sorted((d / sub).glob("*.png"))
+    for sub in (eval_dir or d / rundir.EVAL, d / rundir.SWEEP):
+        if sub.is_dir():
+            found += sorted(sub.glob("*.png"))
     return found
 
 
-def _run_section(d: Path, metrics: dict[str, Any] | None, level: int = 2) -> str:
-    """The part of the page about training run ``d``."""
+def _run_section(
+    d: Path,
+    metrics: dict[str, Any] | None,
+    level: int = 2,
+    eval_dir: Path | None = None,
+) -> str:
+    """The part of the page about training run ``d`` (its evaluation's
+    figures from ``eval_dir``, default ``d/eval``)."""
     h = f"h{level}"
     parts = [f"<{h}>Configuration</{h}>"]
     parts.append(
@@ -189,7 +196,7 @@ def _run_section(d: Path, metrics: dict[str, Any] | None, level: int = 2) -> str
     if metrics is not None:
         parts.append(f"<{h}>Best controller</{h}>")
         parts.append(_table(metrics))
-    figs = _figures(d)
+    figs = _figures(d, eval_dir)
     if figs:
         parts.append(f"<{h}>Figures</{h}>")
         parts += [_figure(f, f.name) for f in figs]
@@ -220,9 +227,18 @@ Self-contained: no network needed.</footer>
 """
 
 
-def write_report(path: str | os.PathLike, *, backend: Backend | None = None) -> Path:
-    """Write ``path/report.html`` for a training run or a reproduction
-    (rewritten on every call: it holds derived content only)."""
+def write_report(
+    path: str | os.PathLike,
+    *,
+    backend: Backend | None = None,
+    out: str | os.PathLike | None = None,
+) -> Path:
+    """Write the report of a training run or a reproduction ``path`` into
+    ``out``, by default ``path/report.html`` (for a shipped run under
+    ``results/``: ``runs/shipped/<same path>/report.html``,
+    :func:`locustjump.rundir.derived_dir`); rewritten on every call, it holds
+    derived content only. Nothing else is written: a training run's best
+    genome is re-simulated into a temporary directory, its figures embedded."""
 
     d = Path(path)
     if not d.is_dir():
@@ -248,20 +264,26 @@ def write_report(path: str | os.PathLike, *, backend: Backend | None = None) -> 
             body += [_figure(v, v.name) for v in rules_videos]
         title = f"locustjump reproduction: {d.name}"
     elif rundir.is_run(d):
-        ev = evaluate_run(d, backend=backend)
-        metrics = {
-            "re-simulated fitness": ev.fitness,
-            "recorded fitness": ev.recorded_fitness,
-            "matches": ev.matches,
-            **ev.metrics,
-        }
-        body = [_run_section(d, metrics)]
+        with tempfile.TemporaryDirectory(prefix="locustjump-report-") as tmp:
+            ev = evaluate_run(d, backend=backend, eval_dir=tmp)
+            metrics = {
+                "re-simulated fitness": ev.fitness,
+                "recorded fitness": ev.recorded_fitness,
+                "matches": ev.matches,
+                **ev.metrics,
+            }
+            body = [_run_section(d, metrics, eval_dir=Path(tmp))]
         title = f"locustjump run: {d.name} ({ev.behaviour})"
     else:
         raise UserError(f"{d}: holds no run (no {rundir.CONFIG}) and no reproduction")
-    out = d / rundir.REPORT
+    page = Path(out) if out is not None else rundir.derived_dir(d) / rundir.REPORT
     # a reproduction's results.md brings its own heading
     heading = not (rundir.is_reproduction(d) or rundir.is_multiseed(d))
-    with rundir.locked(d):
-        rundir.atomic_write_text(out, _page(title, "\n".join(body), heading=heading))
-    return out
+    text = _page(title, "\n".join(body), heading=heading)
+    if page.resolve().parent == d.resolve():  # inside the run: one writer
+        with rundir.locked(d):
+            rundir.atomic_write_text(page, text)
+    else:
+        page.parent.mkdir(parents=True, exist_ok=True)
+        rundir.atomic_write_text(page, text)
+    return page

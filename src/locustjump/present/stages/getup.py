@@ -130,7 +130,8 @@ def sweep_run(
 ) -> tuple[Sweep, list[Path]]:
     """The get-up generalisation test of getup run ``path``'s best genome from
     roll ``angles`` (plus the training states): ``DIR/sweep/sweep.csv`` and
-    ``sweep.png``."""
+    ``sweep.png`` (a shipped run's under ``runs/shipped/``:
+    :func:`locustjump.rundir.derived_dir`)."""
     cfg, _, best = rundir.load_run(path)
     if cfg.behaviour != GetUp.name:
         raise UserError(
@@ -138,5 +139,9 @@ def sweep_run(
         )
     sw = sweep_getup(best.genome, cfg.model, angles, backend=backend,
                      engine=cfg.engine)  # fmt: skip
+    dest = rundir.derived_dir(Path(path))  # a shipped run is not written
+    if dest != Path(path):
+        dest.mkdir(parents=True, exist_ok=True)
+        return sw, write_sweep(dest, sw)
     with rundir.locked(path):
-        return sw, write_sweep(Path(path), sw)
+        return sw, write_sweep(dest, sw)
