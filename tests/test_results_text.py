@@ -10,6 +10,7 @@ import numpy as np
 from locustjump.present.render import acting
 from locustjump.present.report import write_report
 from locustjump.present.results import results_markdown
+from locustjump.present.stages.base import fmt
 from locustjump.present.stages.return_legs import ReturnLegsReporter
 from locustjump.present.stages.successive import ComposedReporter
 
@@ -47,6 +48,10 @@ def test_a_composed_controller_that_never_jumps(shipped):
     # the caption does not promise successive jumping
     (caption,) = [c for _, _, c in ComposedReporter.figures]
     assert "Successive jumping" not in caption
+
+
+def test_a_missing_number_has_no_unit():
+    assert fmt(None, unit="x") == "n/a" and fmt(0.5, unit="x") == "0.50x"
 
 
 def test_return_legs_reason_names_the_joints_off_phi(shipped):

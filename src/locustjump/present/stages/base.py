@@ -70,9 +70,10 @@ def yes(ok: bool) -> str:
     return "**yes**" if ok else "no"
 
 
-def fmt(x: float | None, spec: str = ".2f") -> str:
-    """A number of a claim row; ``n/a`` where there is none."""
-    return "n/a" if x is None else format(x, spec)
+def fmt(x: float | None, spec: str = ".2f", unit: str = "") -> str:
+    """A number of a claim row with its ``unit`` ("x", " m"); ``n/a``, with
+    no unit, where there is none (not "n/ax")."""
+    return "n/a" if x is None else format(x, spec) + unit
 
 
 class Reporter:

@@ -66,8 +66,8 @@ class KickReporter(Reporter):
             Claim(
                 claim.text,
                 claim.paper,
-                f"{fmt(ratio)}x ({fmt(k['apex_height_m'])} m vs "
-                f"{fmt(k.get('rules_first_apex_height_m'))} m)",
+                f"{fmt(ratio, unit='x')} ({fmt(k['apex_height_m'], unit=' m')} vs "
+                f"{fmt(k.get('rules_first_apex_height_m'), unit=' m')})",
                 f"{yes(ok)} (>= {KICK_RATIO_OK}x)",
                 ratio,
                 ok,

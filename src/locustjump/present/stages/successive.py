@@ -83,13 +83,17 @@ class ComposedReporter(SuccessiveReporter):
         ratios = c.get("apex_ratios_to_rules", [])
         low = min(ratios) if ratios else None
         ok = c["jumps"] >= 2 and low is not None and low > PAPER_COMPOSED_RATIO
-        ratio = "nothing to compare" if low is None else f"smallest ratio {fmt(low)}x"
+        ratio = (
+            "nothing to compare"
+            if low is None
+            else f"smallest ratio {fmt(low, unit='x')}"
+        )
         return [
             Claim(
                 claim.text,
                 claim.paper,
                 f"{_jumps(c['jumps'])}, {ratio} (rule-based mean "
-                f"apex {fmt(c.get('rules_mean_apex_height_m'))} m)",
+                f"apex {fmt(c.get('rules_mean_apex_height_m'), unit=' m')})",
                 f"{yes(ok)} (>= 2 jumps, each > 2x)",
                 low,
                 ok,
@@ -205,7 +209,7 @@ class MonolithicReporter(SuccessiveReporter):
         return lines + [
             "",
             f"Composition beats the monolithic network in {wins} of {len(pairs)} "
-            f"seeds; median ratio {fmt(med)}x; two-sided sign test over the "
+            f"seeds; median ratio {fmt(med, unit='x')}; two-sided sign test over the "
             f"seeds p = {sign_test(wins, len(pairs)):.3g}.",
             "",
         ]
