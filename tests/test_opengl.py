@@ -9,6 +9,7 @@ subprocess, as a user runs them: the back end is chosen once per process.
 
 import ctypes.util
 import os
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -82,3 +83,20 @@ def test_osmesa_on_this_machine(tmp_path):
         assert r.returncode == 2 and r.stderr.count("\n") == 1, r.stderr
     else:
         assert video.is_file()
+
+
+def test_reproduce_skips_its_videos_in_one_line(monkeypatch, shipped, tmp_path):
+    """Where the back end was switched off, reproduce's videos are skipped with
+    one log line naming the package (in-process: the reason as choose() keeps
+    it)."""
+    from locustjump import opengl
+    from locustjump.runs.reproduce import render_videos
+
+    problem = "MUJOCO_GL=osmesa: ... ; install the Debian package libosmesa6"
+    monkeypatch.setattr(opengl, "PROBLEM", problem)
+    d = shutil.copytree(shipped, tmp_path / "r")
+    (d / "kick" / "video.mp4").unlink()  # the first stage without a video
+    logs: list[str] = []
+    assert render_videos(d, log=logs.append) == []
+    assert logs == [f"videos skipped: cannot render offscreen: {problem}"]
+    assert not (d / "kick" / "video.mp4").exists()

@@ -45,7 +45,8 @@ def test_run_report_is_self_contained(run_copy, capsys):
     # config.toml and the metrics as tables (a section, a dict: a nested table)
     assert "<th>rcga</th><td><table><tr><th>population</th><td>50</td>" in text
     assert "wall time (s)" in text and "<pre>" not in text
-    assert "apex_height_ratio_to_rules" in text and "{" not in text.split("<body")[1]
+    assert "<th>apex height ratio to rules</th>" in text
+    assert "<th>takeoff speed (m/s)</th>" in text and "{" not in text.split("<body")[1]
     assert "<td>True</td>" in text  # re-simulated fitness matches the record
     # everything embedded: no file or network reference
     srcs = re.findall(r'src="([^"]*)"', text)

@@ -135,6 +135,25 @@ def _text(v: Any) -> str:
     return str(v)
 
 
+#: unit suffixes of metric names, as a reader writes them
+_UNITS = (("_m_s", "m/s"), ("_deg", "deg"), ("_m", "m"), ("_s", "s"))
+
+
+def _readable(key: str) -> str:
+    """A metric's name as words with its unit: ``takeoff_speed_m_s`` ->
+    ``takeoff speed (m/s)``."""
+    for suffix, unit in _UNITS:
+        if key.endswith(suffix) and len(key) > len(suffix):
+            return f"{key[: -len(suffix)].replace('_', ' ')} ({unit})"
+    return key.replace("_", " ")
+
+
+def _metrics_table(metrics: dict[str, Any]) -> str:
+    """The behaviour metrics, named in words (a nested table keeps its keys:
+    joint names, behaviour names)."""
+    return _table({_readable(k): v for k, v in metrics.items()})
+
+
 def _table(d: dict[str, Any]) -> str:
     """A two-column table, key and value; a value that is a table nests."""
     rows = [
@@ -195,7 +214,7 @@ def _run_section(
         parts.append(_figure(fit, "best and mean fitness per generation"))
     if metrics is not None:
         parts.append(f"<{h}>Best controller</{h}>")
-        parts.append(_table(metrics))
+        parts.append(_metrics_table(metrics))
     figs = _figures(d, eval_dir)
     if figs:
         parts.append(f"<{h}>Figures</{h}>")
