@@ -51,8 +51,10 @@ def test_every_behaviour_of_train_is_explained():
 def test_the_readme_synopsis_names_every_option():
     text = README.read_text()
     synopsis = text.split("## Command line", 1)[1].split("## ", 1)[0]
-    # options every simulating command shares, described once below the synopsis
-    shared = {"--backend", "--threads", "--address", "--actors", "--help"}
+    # options many commands share, described once below the synopsis
+    shared = {"--backend", "--threads", "--address", "--actors", "--help",
+              "--scene", "--terrain-seed", "--terrains", "--terrain-seeds"}  # fmt: skip
+    assert all(f"`{o}" in text for o in shared - {"--help"}), "shared options"
     missing = []
     for name, parser in _subparsers(build_parser()):
         line = re.search(rf"^locustjump {re.escape(name)}\b.*?(?=^locustjump |\Z)",

@@ -47,6 +47,13 @@ def _seeds(text: str) -> list[int]:
         raise argparse.ArgumentTypeError(str(e)) from None
 
 
+def _terrain_seeds(text: str) -> list[int]:
+    try:
+        return parse_seeds(text)
+    except ValueError as e:
+        raise argparse.ArgumentTypeError(f"--terrain-seeds {e}") from None
+
+
 def _finite_float(name: str, *, above: float | None = None, allow_equal: bool = False):
     """A finite number; with ``above``, also > it (or >= with ``allow_equal``)."""
 

@@ -9,6 +9,7 @@ from locustjump.cli.argtypes import _int_at_least, _positive_float
 from locustjump.evo import optimizer_kinds
 from locustjump.sim.engine.backends import BACKENDS
 from locustjump.sim.engine.job import ENGINES
+from locustjump.sim.scene import scene_names
 from locustjump.tasks import behaviour_class, behaviour_names
 
 
@@ -21,6 +22,37 @@ def strut_stiffness_arg(p: argparse.ArgumentParser) -> None:
         help="fore and middle legs on sprung hinges of this stiffness at real "
         "scale, e.g. 2e-4 (default 0: rigid struts, the trained creature)",
     )
+
+
+def add_scene(
+    p: argparse.ArgumentParser, *, of_run: bool = False, train: bool = False
+) -> None:
+    """``--scene`` and ``--terrain-seed`` (``train``: also ``--terrains``)."""
+    own = "the run's own; " if of_run else ""
+    p.add_argument(
+        "--scene",
+        metavar="NAME|FILE",
+        help=f"the world: {' or '.join(scene_names())}, or a TOML file with a "
+        f"[scene] table (a run's config.toml is one) for its parameters "
+        f"(default: {own}flat, the paper's floor)",
+    )
+    p.add_argument(
+        "--terrain-seed",
+        type=_int_at_least("--terrain-seed", 0),
+        metavar="N",
+        help="the terrain of a seeded scene (debris), apart from the evolution's "
+        "--seed (default 0" + (", or the run's first training terrain" if of_run
+        else "") + (": training terrains N .. N+K-1" if train else "") + ")",
+    )  # fmt: skip
+    if train:
+        p.add_argument(
+            "--terrains",
+            type=_int_at_least("--terrains", 1),
+            metavar="K",
+            help="score every genome on K terrains (seeds from --terrain-seed), "
+            'fitness their mean ([scene] aggregate = "min": the worst); '
+            "default 1",
+        )
 
 
 def add_backend(p: argparse.ArgumentParser) -> None:

@@ -12,11 +12,13 @@ from locustjump.cli.argtypes import (
     _positive_float,
     _seeds,
     _substeps,
+    _terrain_seeds,
     out_path,
 )
 from locustjump.cli.options import (
     add_backend,
     add_optimizer,
+    add_scene,
     behaviours_help,
     strut_stiffness_arg,
 )
@@ -78,6 +80,7 @@ def build_parser() -> argparse.ArgumentParser:
         f"(default {lm.LocustParams().scale:g})",
     )
     strut_stiffness_arg(p)
+    add_scene(p)
     p.add_argument(
         "--out", type=out_path, required=True, metavar="FILE",
         help="the MJCF file to write (required)",
@@ -111,6 +114,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="episode length in control steps of 1/120 s (default 3000: 25 s)",
     )
     strut_stiffness_arg(p)
+    add_scene(p)
     add_backend(p)
     p.add_argument(
         "--out", type=out_path, required=True, metavar="DIR",
@@ -157,6 +161,7 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="N",
         help="random seed of the optimizer (default 0); same seed, same run",
     )
+    add_scene(p, train=True)
     add_backend(p)
     p.add_argument(
         "--config",
@@ -230,6 +235,15 @@ def build_parser() -> argparse.ArgumentParser:
         action="store_true",
         help="write into a non-empty --out (default: refuse)",
     )
+    add_scene(p, of_run=True)
+    p.add_argument(
+        "--terrain-seeds",
+        type=_terrain_seeds,
+        metavar="A-B",
+        help="re-score the best genome on these terrains (e.g. 100-119 or "
+        "100,105), print each, their mean and the generalisation gap to the "
+        "training fitness (terrains it trained on are marked; default: none)",
+    )
     add_backend(p)
     p.set_defaults(func=cmd.cmd_evaluate)
 
@@ -265,6 +279,7 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="DEG",
         help="last start roll angle, in degrees, included (default 270)",
     )
+    add_scene(p, of_run=True)
     add_backend(p)
     p.set_defaults(func=cmd.cmd_sweep_getup)
 
@@ -307,6 +322,7 @@ def build_parser() -> argparse.ArgumentParser:
         "across seeds in DIR/results.md (a rerun may add seeds)",
     )
     add_optimizer(p, "rcga")
+    add_scene(p, train=True)
     add_backend(p)
     p.add_argument(
         "--out",
@@ -354,6 +370,7 @@ def build_parser() -> argparse.ArgumentParser:
         action="store_true",
         help="write into a non-empty OUT (default: refuse)",
     )
+    add_scene(p, of_run=True)
     add_backend(p)
     p.set_defaults(func=cmd.cmd_replay)
     add_showing_commands(sub)

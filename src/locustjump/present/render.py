@@ -28,14 +28,16 @@ from tqdm import tqdm
 
 from locustjump import opengl, rundir
 from locustjump.errors import UserError
-from locustjump.rundir.config import from_table
+from locustjump.rundir.config import from_table, terrains_from_table
 from locustjump.rundir.migrations import rules_summary
 from locustjump.sim import model as lm
 from locustjump.sim import names
 from locustjump.sim.controller import Controller
 from locustjump.sim.engine.rollout import DEFAULT_ENGINE, StartStates, rollout
 from locustjump.sim.model import CONTROL_DT
+from locustjump.sim.scene import Flat, Scene
 from locustjump.tasks.rules import RuleController
+from locustjump.tasks.starts import ready_state
 
 if TYPE_CHECKING:
     from locustjump.sim.engine.backends import Backend
@@ -63,6 +65,7 @@ class Playback:
       labels: a label per episode (e.g. the get-up start roll).
       captions: (k, T + 1) text per step (e.g. the active behaviour), or None.
       title: what it is.
+      scene: the world they ran in.
     """
 
     model_params: lm.LocustParams
@@ -70,16 +73,18 @@ class Playback:
     labels: list[str]
     captions: np.ndarray | None
     title: str
+    scene: Scene = Flat()
 
     @property
     def n_steps(self) -> int:
         return self.qpos.shape[1] - 1
 
 
-def _rules_run(path: Path) -> tuple[float, int, lm.LocustParams, str] | None:
-    """(change time, steps, creature, engine) of a rule-based run directory,
-    else None. Summaries written before the creature was recorded are of the
-    default one; before the engine was the run's, it was the creature's."""
+def _rules_run(path: Path) -> tuple[float, int, lm.LocustParams, str, Scene] | None:
+    """(change time, steps, creature, engine, scene) of a rule-based run
+    directory, else None. Summaries written before the creature was recorded
+    are of the default one; before the engine was the run's, it was the
+    creature's; before scenes, the flat floor."""
     if not rundir.is_rules_run(path):
         return None
     f = path / rundir.RULES_SUMMARY
@@ -87,7 +92,14 @@ def _rules_run(path: Path) -> tuple[float, int, lm.LocustParams, str] | None:
     try:
         p = from_table(lm.LocustParams, summary["model"], "model", str(f))
         steps = int(summary.get("steps", 3000))
-        return float(summary["change_time_s"]), steps, p, str(summary["engine"])
+        scene = terrains_from_table(summary.get("scene", {}), str(f)).scene
+        return (
+            float(summary["change_time_s"]),
+            steps,
+            p,
+            str(summary["engine"]),
+            scene,
+        )
     except (KeyError, TypeError, ValueError) as e:
         raise UserError(f"{f}: not a rule-based run summary ({e})") from None
 
@@ -105,12 +117,14 @@ class Source:
     labels: list[str]
     title: str
     memory_names: tuple[str, ...] | None = None  # memory[0] indexes these
+    scene: Scene = Flat()  # the world it runs in
 
 
-def source_of(path: str | os.PathLike) -> Source:
+def source_of(path: str | os.PathLike, scene: Scene | None = None) -> Source:
     """What directory ``path`` holds: a training run's best genome
     (``config.toml`` + ``best.npz``) or a rule-based run (``locustjump rules``
-    or a reproduction's ``rules/``: ``summary.json`` + ``trajectory.csv``)."""
+    or a reproduction's ``rules/``: ``summary.json`` + ``trajectory.csv``), in
+    its own scene (a run's first training terrain) or in ``scene``."""
     out = Path(path)
     if not out.is_dir():
         raise UserError(f"{out}: no such directory")
@@ -125,19 +139,23 @@ def source_of(path: str | os.PathLike) -> Source:
                 f"{out}: holds no run (no {rundir.CONFIG}) and no rule-based run "
                 f"(no {rundir.RULES_SUMMARY} + {rundir.TRAJECTORY_CSV})"
             )
-        change_time, steps, p, engine = rules
+        change_time, steps, p, engine, own = rules
+        scene = own if scene is None else scene
         rc = RuleController.for_model(p)
         return Source(
             p,
             engine,
             rc,
             rc.params_for(change_time),
-            StartStates.ready(lm.load_model(p)),
+            ready_state(p, scene),
             steps,
             ["rule-based"],
             f"rule-based, change time {change_time:.3f} s",
+            scene=scene,
         )
     cfg, beh, best = rundir.load_run(out)
+    if scene is not None:
+        beh = beh.on(scene)
     labels = beh.state_labels()
     return Source(
         cfg.model,
@@ -150,13 +168,19 @@ def source_of(path: str | os.PathLike) -> Source:
         f"{cfg.behaviour}, best of generation {best.generation}, "
         f"fitness {best.fitness:.4g}",
         beh.memory_labels,
+        beh.scene,
     )
 
 
-def playback_of(path: str | os.PathLike, *, backend: Backend | None = None) -> Playback:
-    """Re-simulate what directory ``path`` holds (:func:`source_of`) with the
-    engine, keeping every control step."""
-    src = source_of(path)
+def playback_of(
+    path: str | os.PathLike,
+    *,
+    backend: Backend | None = None,
+    scene: Scene | None = None,
+) -> Playback:
+    """Re-simulate what directory ``path`` holds (:func:`source_of`; in
+    ``scene`` if given) with the engine, keeping every control step."""
+    src = source_of(path, scene)
     record = ("qpos",) if src.memory_names is None else ("qpos", "memory")
     res = rollout(
         src.controller,
@@ -167,11 +191,14 @@ def playback_of(path: str | os.PathLike, *, backend: Backend | None = None) -> P
         record=record,
         backend=backend,
         engine=src.engine,
+        scene=src.scene,
     )
     captions = None
     if src.memory_names is not None:
         captions = np.array(src.memory_names)[acting(res["memory"][:, :, 0])]
-    return Playback(src.model_params, res["qpos"], src.labels, captions, src.title)
+    return Playback(
+        src.model_params, res["qpos"], src.labels, captions, src.title, src.scene
+    )
 
 
 def acting(selected: np.ndarray) -> np.ndarray:
@@ -231,7 +258,7 @@ def frames(
         raise UserError(f"fps must be in (0, {1 / CONTROL_DT:g}], got {fps:g}")
     k = pb.qpos.shape[0]
     width, height = size or ((640, 480) if k == 1 else TILE)
-    m = lm.load_model(pb.model_params)
+    m = lm.load_model(pb.model_params, pb.scene)
     d = mujoco.MjData(m)
     renderer = make_renderer(m, width, height)
     font = _font(max(12, height // 20))
@@ -321,9 +348,11 @@ def render_run(
     force: bool = False,
     progress: bool = False,
     backend: Backend | None = None,
+    scene: Scene | None = None,
 ) -> Path:
     """Video of what directory ``path`` holds (default ``path/video.mp4``; a
-    shipped run's under ``runs/shipped/``: :func:`locustjump.rundir.derived_dir`)."""
+    shipped run's under ``runs/shipped/``: :func:`locustjump.rundir.derived_dir`),
+    in its own scene or ``scene``."""
     if out is None:
         out = rundir.derived_dir(Path(path)) / rundir.VIDEO
         if not Path(path).is_dir():
@@ -333,7 +362,7 @@ def render_run(
     check_video_path(out, force=force)
     if camera not in CAMERAS:
         raise UserError(f"unknown camera {camera!r}; one of {', '.join(CAMERAS)}")
-    pb = playback_of(path, backend=backend)
+    pb = playback_of(path, backend=backend, scene=scene)
     inside = Path(out).resolve().parent == Path(path).resolve()
     with rundir.locked(path) if inside else contextlib.nullcontext():
         return _encode(pb, out, fps, camera, force, progress)

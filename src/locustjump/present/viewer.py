@@ -19,9 +19,15 @@ from locustjump.present.render import Source, source_of
 from locustjump.sim import names
 from locustjump.sim.engine.episode import Episode
 from locustjump.sim.model import CONTROL_DT
+from locustjump.sim.scene import Scene
 
 
-def view(path: str | os.PathLike, *, duration: float | None = None) -> None:
+def view(
+    path: str | os.PathLike,
+    *,
+    duration: float | None = None,
+    scene: Scene | None = None,
+) -> None:
     """Play what ``path`` holds live in MuJoCo's interactive viewer: the
     controller acts every 1/120 s of simulated time, in real time, looping over
     the start states until the window is closed (or ``duration`` seconds have
@@ -33,10 +39,10 @@ def view(path: str | os.PathLike, *, duration: float | None = None) -> None:
             "no display (DISPLAY is not set): the viewer needs a desktop session; "
             "use `locustjump render` to make a video instead"
         )
-    src = source_of(path)
+    src = source_of(path, scene)
     import mujoco.viewer
 
-    ep = Episode(src.model_params)
+    ep = Episode(src.model_params, src.scene)
     ep.reset(src.starts, 0)
     before = set(threading.enumerate())
     try:

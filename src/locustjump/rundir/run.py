@@ -223,7 +223,7 @@ def behaviour_of(cfg, out: Path):
 
     cls = behaviour_class(cfg.behaviour)
     if not cls.requires:
-        return get_behaviour(cfg.behaviour, None, cfg.options)
+        return get_behaviour(cfg.behaviour, None, cfg.options, cfg.scene)
     path = frozen_path(out)
     frozen = FrozenGenomes.load(path, cls.requires, cls.frozen_num_params())
     if frozen.digest != cfg.frozen_digest:
@@ -231,7 +231,7 @@ def behaviour_of(cfg, out: Path):
             f"{path}: its genomes (digest {frozen.digest}) are not the ones "
             f"{out / CONFIG} names ({cfg.frozen_digest or 'none'})"
         )
-    return get_behaviour(cfg.behaviour, frozen.genomes, cfg.options)
+    return get_behaviour(cfg.behaviour, frozen.genomes, cfg.options, cfg.scene)
 
 
 def load_run(path: str | os.PathLike):

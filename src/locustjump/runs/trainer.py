@@ -260,12 +260,14 @@ def _check_new(
         )
     lm.check_model(cfg.model)
     beh = get_behaviour(
-        cfg.behaviour, frozen.genomes if cls.requires else None, cfg.options
-    )
+        cfg.behaviour, frozen.genomes if cls.requires else None, cfg.options,
+        cfg.scene,
+    )  # fmt: skip
 
     require_memory(
         rollout_bytes(
-            lm.load_model(cfg.model), cfg.population * len(beh.start_states(cfg.model)),
+            lm.load_model(cfg.model, beh.scene),
+            cfg.population * len(beh.start_states(cfg.model)) * cfg.scene.count,
             beh.n_steps, beh.record,
         ),
         f"population {cfg.population:,}: a generation",

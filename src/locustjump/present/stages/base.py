@@ -102,7 +102,7 @@ class Reporter:
         beh, res, p, _ = ep
         path = out / TRAJECTORY_PNG
         qpos = res["qpos"][0]
-        trajectory_figure(path, [(beh.name, qpos, find_jumps(qpos, p))])
+        trajectory_figure(path, [(beh.name, qpos, find_jumps(qpos, p, beh.scene))])
         return [path]
 
     def extra_evaluation(

@@ -16,6 +16,7 @@ from locustjump.present.plots import getup_figure, sweep_figure
 from locustjump.present.stages.base import Claim, Episodes, Reporter, fmt, yes
 from locustjump.sim import model as lm
 from locustjump.sim.engine.job import DEFAULT_ENGINE
+from locustjump.sim.scene import Scene
 from locustjump.tasks import Behaviour
 from locustjump.tasks.getup import (
     SUCCESS_UZ,
@@ -63,7 +64,9 @@ class GetUpReporter(Reporter):
         engine: str = DEFAULT_ENGINE,
     ) -> dict[str, Any]:
         """The paper's generalisation test (180 states): ``run/sweep/``."""
-        sw = sweep_getup(genome, p, sweep_angles(), backend=backend, engine=engine)
+        sw = sweep_getup(
+            genome, p, sweep_angles(), backend=backend, engine=engine, scene=beh.scene
+        )
         write_sweep(Path(run), sw)
         return {"sweep_got_up": sw.got_up, "sweep_states": sw.n_sweep}
 
@@ -127,6 +130,7 @@ def sweep_run(
     angles: np.ndarray,
     *,
     backend: Backend | None = None,
+    scene: Scene | None = None,
 ) -> tuple[Sweep, list[Path]]:
     """The get-up generalisation test of getup run ``path``'s best genome from
     roll ``angles`` (plus the training states): ``DIR/sweep/sweep.csv`` and
@@ -138,7 +142,7 @@ def sweep_run(
             f"{path}: holds a {cfg.behaviour!r} run; sweep-getup needs a getup run"
         )
     sw = sweep_getup(best.genome, cfg.model, angles, backend=backend,
-                     engine=cfg.engine)  # fmt: skip
+                     engine=cfg.engine, scene=scene or cfg.scene.scene)  # fmt: skip
     dest = rundir.derived_dir(Path(path))  # a shipped run is not written
     if dest != Path(path):
         dest.mkdir(parents=True, exist_ok=True)

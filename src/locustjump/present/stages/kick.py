@@ -44,7 +44,7 @@ class KickReporter(Reporter):
         trajectory_figure(
             path,
             [
-                ("evolved kick", qpos, find_jumps(qpos, p)),
+                ("evolved kick", qpos, find_jumps(qpos, p, beh.scene)),
                 ("rule-based", rules.qpos, rules.jumps),
             ],
             title=f"Kicking the ground: evolved vs rule-based ({beh.n_steps} steps)",

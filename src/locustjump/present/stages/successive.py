@@ -45,7 +45,7 @@ class SuccessiveReporter(Reporter):
         rules = (reference or beh.reference(p)).head(beh.n_steps, p)
         selected = res["memory"][0, 1:, 0] if "memory" in res.records else None
         path = out / f"{beh.name}.png"
-        jumps = find_jumps(qpos, p)
+        jumps = find_jumps(qpos, p, beh.scene)
         what = "Successive jumping" if len(jumps) > 1 else _jumps(len(jumps))
         composed_figure(
             path,
