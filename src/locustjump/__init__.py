@@ -5,22 +5,13 @@ Behavior on the Artificial Creature under Virtual Physical Environment*, with
 MuJoCo and a real-coded genetic algorithm.
 """
 
-import os as _os
-import sys as _sys
+# Offscreen rendering: choose MuJoCo's OpenGL back end before anything imports
+# mujoco (EGL on a headless Linux machine; a back end whose library is missing
+# is switched off, so that only rendering fails, in one line).
+# Importing it chooses the back end.
+from locustjump import opengl as _opengl  # noqa: F401
 
-# Offscreen rendering on a headless Linux machine: EGL, if its library is
-# installed and the user chose no back end. MuJoCo reads MUJOCO_GL when it is
-# first imported, and that import fails outright if the named back end's
-# library is missing, so only a loadable EGL is chosen.
-if (
-    _sys.platform.startswith("linux")
-    and "MUJOCO_GL" not in _os.environ
-    and not (_os.environ.get("DISPLAY") or _os.environ.get("WAYLAND_DISPLAY"))
-):
-    import ctypes.util as _ctypes_util
-
-    if _ctypes_util.find_library("EGL"):
-        _os.environ["MUJOCO_GL"] = "egl"
+# isort: split
 
 import importlib as _importlib
 

@@ -15,11 +15,12 @@ from locustjump.present.evaluate import (
     evaluate_run,
     evaluate_terrains,
 )
-from locustjump.present.render import render_run, view
+from locustjump.present.render import render_run
 from locustjump.present.report import write_report
 from locustjump.present.rules import write_rules_run
 from locustjump.present.stages import reporter_of
 from locustjump.present.stages.getup import sweep_run
+from locustjump.present.viewer import view
 from locustjump.runs.multiseed import reproduce_seeds
 from locustjump.runs.reproduce import replay, reproduce
 from locustjump.runs.trainer import train
@@ -164,7 +165,10 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
         )
         print(json.dumps(te.to_dict(), indent=2) if args.json else terrain_table(te))
         return 0
-    ev = evaluate_run(args.run, backend=_backend(args), scene=scene)
+    eval_dir = None
+    if args.out is not None:
+        eval_dir = rundir.check_out_dir(args.out, force=args.force)
+    ev = evaluate_run(args.run, backend=_backend(args), eval_dir=eval_dir, scene=scene)
     if args.json:
         print(json.dumps(ev.to_dict(), indent=2))
     else:
@@ -278,7 +282,10 @@ def cmd_view(args: argparse.Namespace) -> int:
 
 def cmd_report(args: argparse.Namespace) -> int:
 
-    print(f"wrote {write_report(args.dir, backend=_backend(args))}")
+    out = None
+    if args.out is not None:
+        out = rundir.prepare_out_file(args.out, force=args.force)
+    print(f"wrote {write_report(args.dir, backend=_backend(args), out=out)}")
     return 0
 
 

@@ -53,21 +53,24 @@ def evaluate_run(
     eval_dir: str | os.PathLike | None = None,
     scene: Scene | None = None,
 ) -> Evaluation:
-    """Re-simulate a run's best genome; write ``DIR/eval/`` (trajectory CSVs and
-    the behaviour's figures), or ``eval_dir`` if given. On the run's training
-    terrains, or in ``scene`` if given (then its fitness need not be the
-    recorded one). Trained on several terrains, its fitness is theirs
-    combined (as recorded); its metrics and figures are of the first.
+    """Re-simulate a run's best genome; write its trajectory CSVs and the
+    behaviour's figures into ``eval_dir``, by default ``DIR/eval/`` (for a
+    shipped run under ``results/``: ``runs/shipped/<same path>/eval/``,
+    :func:`locustjump.rundir.derived_dir`). On the run's training terrains,
+    or in ``scene`` if given (then its fitness need not be the recorded one).
+    Trained on several terrains, its fitness is theirs combined (as
+    recorded); its metrics and figures are of the first.
 
     ``eval/`` holds derived files only: they are rewritten on every call.
     """
     out = Path(path)
-    if eval_dir is None:  # the run's own eval/: held from reading to writing
+    if eval_dir is None:
+        ev = rundir.derived_dir(out) / rundir.EVAL
+        if ev.resolve().parent != out.resolve():  # a shipped run is not written
+            return evaluate_run(out, backend=backend, eval_dir=ev, scene=scene)
         rundir.load_run(out)  # named before the lock is asked for
-        with rundir.locked(out):
-            return evaluate_run(
-                out, backend=backend, eval_dir=out / rundir.EVAL, scene=scene
-            )
+        with rundir.locked(out):  # the run's own eval/: from reading to writing
+            return evaluate_run(out, backend=backend, eval_dir=ev, scene=scene)
     if backend is None:
         backend = ThreadBackend()
     cfg, beh, best = rundir.load_run(out)

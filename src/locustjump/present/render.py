@@ -4,7 +4,8 @@
 training run, or a rule-based run) with the engine and keeps every control
 step's ``qpos``; :func:`render_video` draws it offscreen with MuJoCo's renderer
 (cameras ``track`` and ``side`` of the MJCF) and encodes it with ``imageio``
-(extra ``locustjump[video]``); :func:`view` plays it in ``mujoco.viewer``.
+(extra ``locustjump[video]``); :func:`locustjump.present.viewer.view` plays
+it in ``mujoco.viewer``.
 
 Headless Linux renders with EGL (``MUJOCO_GL=egl``, Debian package
 ``libegl1``, the default here when no display is set) or OSMesa
@@ -14,9 +15,6 @@ Headless Linux renders with EGL (``MUJOCO_GL=egl``, Debian package
 from __future__ import annotations
 
 import os
-import sys
-import threading
-import time
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
@@ -27,14 +25,13 @@ import numpy as np
 from PIL import Image, ImageDraw, ImageFont
 from tqdm import tqdm
 
-from locustjump import rundir
+from locustjump import opengl, rundir
 from locustjump.errors import UserError
 from locustjump.rundir.config import from_table, terrains_from_table
 from locustjump.rundir.migrations import rules_summary
 from locustjump.sim import model as lm
 from locustjump.sim import names
 from locustjump.sim.controller import Controller
-from locustjump.sim.engine.episode import Episode
 from locustjump.sim.engine.rollout import DEFAULT_ENGINE, StartStates, rollout
 from locustjump.sim.model import CONTROL_DT
 from locustjump.sim.scene import Flat, Scene
@@ -192,14 +189,25 @@ def playback_of(
     )  # fmt: skip
     captions = None
     if src.memory_names is not None:
-        captions = np.array(src.memory_names)[res["memory"][:, :, 0].astype(int)]
+        captions = np.array(src.memory_names)[acting(res["memory"][:, :, 0])]
     return Playback(
         src.model_params, res["qpos"], src.labels, captions, src.title, src.scene
     )
 
 
+def acting(selected: np.ndarray) -> np.ndarray:
+    """(k, T + 1) index of the behaviour that acts from each recorded state
+    on, from the memory recorded after each step (``selected[:, t]``: chosen
+    for step t - 1; ``selected[:, 0]``, the initial memory, chose nothing).
+    The last state shows the last step's."""
+    idx = selected.astype(int)
+    return np.concatenate([idx[:, 1:], idx[:, -1:]], axis=1)
+
+
 def make_renderer(m: mujoco.MjModel, width: int, height: int) -> mujoco.Renderer:
     """An offscreen renderer, or :class:`RenderUnavailable` saying what is missing."""
+    if opengl.PROBLEM is not None:
+        raise RenderUnavailable(f"cannot render offscreen: {opengl.PROBLEM}")
     try:
         return mujoco.Renderer(m, height=height, width=width)
     except Exception as e:  # GL back ends fail in many ways (ImportError, ...)
@@ -338,9 +346,15 @@ def render_run(
     backend: Backend | None = None,
     scene: Scene | None = None,
 ) -> Path:
-    """Video of what directory ``path`` holds (default ``path/video.mp4``), in
-    its own scene or ``scene``."""
-    out = Path(path) / rundir.VIDEO if out is None else Path(out)
+    """Video of what directory ``path`` holds (default ``path/video.mp4``; a
+    shipped run's under ``runs/shipped/``: :func:`locustjump.rundir.derived_dir`),
+    in its own scene or ``scene``."""
+    if out is None:
+        out = rundir.derived_dir(Path(path)) / rundir.VIDEO
+        if not Path(path).is_dir():
+            raise UserError(f"{path}: no such directory")
+        out.parent.mkdir(parents=True, exist_ok=True)
+    out = Path(out)
     check_video_path(out, force=force)
     if camera not in CAMERAS:
         raise UserError(f"unknown camera {camera!r}; one of {', '.join(CAMERAS)}")
@@ -361,70 +375,3 @@ def _encode(
             pb, out, fps=fps, camera=camera, force=force,
             progress=lambda n: bar.update(n - bar.n),
         )  # fmt: skip
-
-
-def view(
-    path: str | os.PathLike,
-    *,
-    duration: float | None = None,
-    scene: Scene | None = None,
-) -> None:
-    """Play what ``path`` holds live in MuJoCo's interactive viewer: the
-    controller acts every 1/120 s of simulated time, in real time, looping over
-    the start states until the window is closed (or ``duration`` seconds have
-    passed). Drag the body with the mouse to perturb it."""
-    if sys.platform.startswith("linux") and not (
-        os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")
-    ):
-        raise UserError(
-            "no display (DISPLAY is not set): the viewer needs a desktop session; "
-            "use `locustjump render` to make a video instead"
-        )
-    src = source_of(path, scene)
-    import mujoco.viewer
-
-    ep = Episode(src.model_params, src.scene)
-    ep.reset(src.starts, 0)
-    before = set(threading.enumerate())
-    try:
-        handle = mujoco.viewer.launch_passive(ep.model, ep.data)
-    except Exception as e:
-        raise UserError(f"cannot open the MuJoCo viewer: {e}") from None
-    end = None if duration is None else time.perf_counter() + duration
-    try:
-        _play(handle, ep, src, end)
-    finally:
-        handle.close()
-        # let the viewer's thread tear its window down before the interpreter
-        # does (GLFW's atexit terminate racing it crashes or hangs)
-        for th in set(threading.enumerate()) - before:
-            th.join(timeout=10)
-
-
-def _play(handle, ep: Episode, src: Source, end: float | None) -> None:
-    ctl = src.controller
-    prepared = ctl.prepare(src.params)
-    with handle as v:
-        with v.lock():  # follow the body, from the side, 3 body lengths away
-            v.cam.type = mujoco.mjtCamera.mjCAMERA_TRACKING
-            v.cam.trackbodyid = ep.model.body(names.BODY).id
-            v.cam.distance = 3 * src.model_params.body_length
-            v.cam.azimuth, v.cam.elevation = 90.0, -10.0
-        while v.is_running():
-            for e in range(len(src.starts)):
-                with v.lock():
-                    obs = ep.reset(src.starts, e)
-                memory = np.zeros((1, ctl.memory_size))
-                for t in range(src.n_steps):
-                    start = time.perf_counter()
-                    if not v.is_running() or (end is not None and start > end):
-                        return
-                    deltas, memory = ctl.act(
-                        prepared, memory, obs, ep.data.ctrl[None], t
-                    )
-                    with v.lock():
-                        obs = ep.step(deltas)
-                    v.sync()
-                    if ep.unstable:
-                        break
-                    time.sleep(max(0.0, CONTROL_DT - (time.perf_counter() - start)))

@@ -47,6 +47,7 @@ from locustjump.rundir.files import (
 )
 from locustjump.rundir.layout import *  # noqa: F403
 from locustjump.rundir.layout import (
+    derived_dir,
     eval_metrics_path,
     is_multiseed,
     is_reproduction,

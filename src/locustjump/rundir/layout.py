@@ -82,3 +82,22 @@ def is_rules_run(d: Path) -> bool:
 
 def eval_metrics_path(run: Path) -> Path:
     return Path(run) / EVAL / EVAL_METRICS
+
+
+#: The shipped runs: the repository's ``results/``, tracked in git. What the
+#: reading commands (evaluate, sweep-getup, report) derive from a run inside
+#: it goes to the same path under :data:`SHIPPED_DERIVED` instead (ignored by
+#: git, as ``runs/`` is), so that a checkout stays clean.
+SHIPPED = Path(__file__).resolve().parents[3] / "results"
+SHIPPED_DERIVED = SHIPPED.parent / "runs" / "shipped"
+
+
+def derived_dir(d: Path) -> Path:
+    """Where evaluate, sweep-getup and report write what they derive from
+    directory ``d`` when not told where: ``d`` itself, or for a shipped run
+    (inside :data:`SHIPPED`) the same path under :data:`SHIPPED_DERIVED`."""
+    try:
+        inside = Path(d).resolve().relative_to(SHIPPED.resolve())
+    except ValueError:
+        return Path(d)
+    return SHIPPED_DERIVED / inside

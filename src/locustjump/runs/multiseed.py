@@ -231,5 +231,5 @@ def _write_results(out: Path, backend: Backend) -> Path:
 
     path = out / rundir.RESULTS
     rundir.atomic_write_text(path, seeds_markdown(out))
-    write_report(out, backend=backend)
+    write_report(out, backend=backend, out=out / rundir.REPORT)
     return path

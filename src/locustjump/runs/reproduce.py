@@ -124,7 +124,7 @@ def finish_reproduction(
         render_videos(out, backend=backend, log=log)
     rundir.atomic_write_text(path, results_markdown(out))
     log(f"wrote {path}")
-    log(f"wrote {write_report(out)}")
+    log(f"wrote {write_report(out, out=out / rundir.REPORT)}")
     return path
 
 
@@ -143,7 +143,7 @@ def render_videos(
         if not d.is_dir() or (d / rundir.VIDEO).is_file():
             continue
         try:
-            made.append(render_run(d, fps=fps, backend=backend))
+            made.append(render_run(d, d / rundir.VIDEO, fps=fps, backend=backend))
         except RenderUnavailable as e:
             log(f"videos skipped: {e}")
             break

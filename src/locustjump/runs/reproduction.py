@@ -300,7 +300,7 @@ class Reproduction:
             log(f"[{stage}] the optimizer stopped at generation {res.generation}: "
                 f"{why}")  # fmt: skip
         t0 = time.perf_counter()
-        ev = evaluate_run(d, backend=backend)
+        ev = evaluate_run(d, backend=backend, eval_dir=d / rundir.EVAL)
         run_cfg, beh, best = rundir.load_run(d)
         extra = reporter_of(beh).extra_evaluation(
             beh, d, best.genome, run_cfg.model, backend=backend, engine=run_cfg.engine

@@ -4,6 +4,7 @@ the claims "5 of 5" and "65 of 180"."""
 
 from __future__ import annotations
 
+import contextlib
 import os
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -134,13 +135,17 @@ def sweep_run(
 ) -> tuple[Sweep, list[Path]]:
     """The get-up generalisation test of getup run ``path``'s best genome from
     roll ``angles`` (plus the training states): ``DIR/sweep/sweep.csv`` and
-    ``sweep.png``."""
+    ``sweep.png`` (a shipped run's under ``runs/shipped/``:
+    :func:`locustjump.rundir.derived_dir`)."""
     cfg, _, best = rundir.load_run(path)
     if cfg.behaviour != GetUp.name:
         raise UserError(
             f"{path}: holds a {cfg.behaviour!r} run; sweep-getup needs a getup run"
         )
-    with rundir.locked(path):  # from the simulation to the last file
+    dest = rundir.derived_dir(Path(path))  # a shipped run is not written
+    held = rundir.locked(path) if dest == Path(path) else contextlib.nullcontext()
+    with held:  # in the run: from the simulation to the last file
         sw = sweep_getup(best.genome, cfg.model, angles, backend=backend,
                          engine=cfg.engine, scene=scene or cfg.scene.scene)  # fmt: skip
-        return sw, write_sweep(Path(path), sw)
+        dest.mkdir(parents=True, exist_ok=True)
+        return sw, write_sweep(dest, sw)
