@@ -2,7 +2,7 @@
 
 * start: the Fig. 4 posture rolled about the body x-axis by 90, 135, 180, 225
   and 270 deg (one side -> upside down -> the other side) and settled on the
-  ground for 3 s (:func:`~locustjump.tasks.base.settle`). On our creature
+  ground for 3 s (:func:`~locustjump.tasks.starts.settle`). On our creature
   the round body cannot rest on its side: every roll in [90, 270] deg settles
   on its back, tilted towards the side it started on (``docs/behaviours.md``);
 * episode: 1000 control steps from each of the 5 states (one engine call);
