@@ -9,6 +9,7 @@ import mujoco
 import numpy as np
 import pytest
 
+from helpers import TINY_GENERATIONS
 from locustjump.sim import model as lm
 
 
@@ -36,6 +37,29 @@ def shipped() -> Path:
     if not (SHIPPED / "reproduce.toml").is_file():
         pytest.skip(f"{SHIPPED} not present")
     return SHIPPED
+
+
+@pytest.fixture(scope="session")
+def tiny_reproduction(tmp_path_factory):
+    """``tiny_reproduction(seed)``: a reproduction of every stage on the tiny
+    budget (population 4, 1 generation a stage, no videos), made once per
+    session and shared by every test file that needs one (about half a
+    minute each). Treat it as read-only: a test that changes one works on a
+    copy."""
+    from locustjump.runs.reproduce import Budget, reproduce
+
+    budget = Budget("tiny", 4, TINY_GENERATIONS)
+    made: dict[int, Path] = {}
+
+    def make(seed: int) -> Path:
+        if seed not in made:
+            out = tmp_path_factory.mktemp("tiny") / f"s{seed}"
+            reproduce(out, budget=budget, seed=seed, progress=False,
+                      log=lambda s: None, videos=False)  # fmt: skip
+            made[seed] = out
+        return made[seed]
+
+    return make
 
 
 @pytest.fixture(scope="session")

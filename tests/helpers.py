@@ -7,6 +7,10 @@ import numpy as np
 
 from locustjump import rundir
 
+#: the smallest budget that runs every stage of a reproduction (conftest's
+#: tiny_reproduction)
+TINY_GENERATIONS = {"kick": 1, "getup": 1, "return-legs": 1, "composed": 1}
+
 EXACT = ("generation", "best", "mean", "std", "evaluations", "control_steps")
 
 

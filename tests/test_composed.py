@@ -7,6 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from helpers import TINY_GENERATIONS, assert_same_run
 from locustjump import rundir
 from locustjump.cli import main
 from locustjump.errors import UserError
@@ -15,6 +16,7 @@ from locustjump.present.evaluate import evaluate_run
 from locustjump.rundir import MARKER, RESULTS
 from locustjump.rundir.config import TrainConfig
 from locustjump.runs.reproduce import PAPER_STAGES, Budget, replay, reproduce
+from locustjump.runs.reproduction import Reproduction
 from locustjump.runs.trainer import train
 from locustjump.sim.controller import MLP
 from locustjump.sim.engine.backends import ThreadBackend
@@ -244,14 +246,13 @@ def test_switch_every_option_and_kick_variants(simple_runs, tmp_path, capsys, pa
 
 # --- reproduce -------------------------------------------------------------------
 
-TINY = Budget("tiny", 4, {"kick": 1, "getup": 1, "return-legs": 1, "composed": 1})
+TINY = Budget("tiny", 4, TINY_GENERATIONS)  # that of conftest's tiny_reproduction
 
 
 @pytest.fixture(scope="module")
-def reproduction(tmp_path_factory) -> Path:
-    out = tmp_path_factory.mktemp("repro") / "r"
-    reproduce(out, budget=TINY, progress=False, log=lambda s: None, videos=False)
-    return out
+def reproduction(tiny_reproduction) -> Path:
+    """Seed 0's tiny reproduction, shared with test_multiseed: read-only."""
+    return tiny_reproduction(0)
 
 
 def test_reproduce_writes_every_stage_and_the_results_table(reproduction):
@@ -274,12 +275,13 @@ def test_reproduce_writes_every_stage_and_the_results_table(reproduction):
 
 def test_reproduce_continues_and_refuses_other_directories(reproduction, tmp_path):
     logs: list[str] = []
-    before = (reproduction / "kick" / rundir.CHECKPOINT).read_bytes()
-    reproduce(reproduction, budget=TINY, progress=False, log=logs.append, videos=False)
+    r = shutil.copytree(reproduction, tmp_path / "r")
+    before = (r / "kick" / rundir.CHECKPOINT).read_bytes()
+    reproduce(r, budget=TINY, progress=False, log=logs.append, videos=False)
     assert all("done" in s for s in logs if s.startswith("[") and "rules" not in s)
-    assert (reproduction / "kick" / rundir.CHECKPOINT).read_bytes() == before
+    assert (r / "kick" / rundir.CHECKPOINT).read_bytes() == before
     with pytest.raises(UserError, match="budget"):
-        reproduce(reproduction, budget="quick", progress=False, log=lambda s: None)
+        reproduce(r, budget="quick", progress=False, log=lambda s: None)
     other = tmp_path / "other"
     other.mkdir()
     (other / "keep.txt").write_text("mine")
@@ -288,25 +290,40 @@ def test_reproduce_continues_and_refuses_other_directories(reproduction, tmp_pat
     assert (other / "keep.txt").read_text() == "mine"
 
 
-def test_reproduce_without_monolithic_then_adds_it(tmp_path):
-    out = tmp_path / "r"
+def test_reproduce_without_monolithic_then_adds_it(reproduction, tmp_path):
+    # the paper's stages as --no-monolithic leaves them (the shared
+    # reproduction, trained in the same order, without its baseline)
+    out = shutil.copytree(reproduction, tmp_path / "r")
+    shutil.rmtree(out / "monolithic")
+    (out / RESULTS).unlink()
     quiet = {"progress": False, "log": lambda s: None, "videos": False}
     reproduce(out, budget=TINY, monolithic=False, **quiet)
     assert not (out / "monolithic").exists()
     text = (out / RESULTS).read_text()
-    # the command it records is the one that made it (`make demo` runs one)
-    assert rundir.read_toml(out / MARKER)["command"] == (
-        f"locustjump reproduce --budget tiny --seed 0 --no-monolithic --out {out}"
-    )
-    assert "**Left out:** the monolithic baseline (`--no-monolithic`;" in text
-    assert "Not finished" not in text
+    # its marker is the shared reproduction's, whose command had no flag
+    assert "**Not finished:** stage monolithic not run yet" in text
     assert "monolithic stages (not run yet: monolithic)" in text
     assert "| monolithic |" not in text and "![monolithic]" not in text
     assert "| composed | 4 | 1 |" in text  # its wall-time row
+    # one started with --no-monolithic records the flag (`make demo` runs one)
+    # and says the baseline was left out, not that it is unfinished
+    command = Reproduction.open(out, TINY, (0,)).command(monolithic=False)
+    assert command == (
+        f"locustjump reproduce --budget tiny --seed 0 --no-monolithic --out {out}"
+    )
+    marker = rundir.read_toml(out / MARKER)
+    rundir.write_toml(out / MARKER, {**marker, "command": command})
+    from locustjump.present.results import results_markdown
+
+    left = results_markdown(out)
+    assert "**Left out:** the monolithic baseline (`--no-monolithic`;" in left
+    assert "Not finished" not in left
     reproduce(out, budget=TINY, **quiet)  # the same command without the flag
     text = (out / RESULTS).read_text()
     assert "Not finished" not in text and "the monolithic one's" in text
     assert "![monolithic](monolithic/eval/monolithic.png)" in text
+    # the baseline added later is the one a reproduction in one go trains
+    assert_same_run(out / "monolithic", reproduction / "monolithic")
 
 
 def test_results_table_of_an_unfinished_reproduction(reproduction, tmp_path):
@@ -346,12 +363,12 @@ def test_reproduce_renders_a_video_per_stage(reproduction, tmp_path):
 
     logs: list[str] = []
     d = shutil.copytree(reproduction, tmp_path / "r")
-    made = render_videos(d, fps=2, log=logs.append)
+    made = render_videos(d, fps=0.5, log=logs.append)  # what is made, not how
     if any(s.startswith("videos skipped") for s in logs):
         pytest.skip(logs[-1])
     assert [p.parent.name for p in made] == list(STAGES)
     assert all(p.stat().st_size > 1000 for p in made)
-    assert render_videos(d, fps=2, log=logs.append) == []  # kept, not re-made
+    assert render_videos(d, fps=0.5, log=logs.append) == []  # kept, not re-made
 
 
 def test_reproduce_cli_bad_input(tmp_path, capsys):

@@ -65,15 +65,13 @@ def test_unknown_option_before_the_command_is_named(capsys):
 
 
 def test_interrupted_reproduce_says_how_to_continue(tmp_path, capsys, monkeypatch):
-    import sys
+    import locustjump.cli.commands as commands
 
     def interrupted(*args, **kwargs):
         raise KeyboardInterrupt
 
     # the command's own name for it (an interrupt during any stage)
-    monkeypatch.setattr(
-        sys.modules["locustjump.cli.commands"], "reproduce", interrupted
-    )
+    monkeypatch.setattr(commands, "reproduce", interrupted)
     assert main(["reproduce", "--out", str(tmp_path / "r")]) == 130
     assert "rerun the same command" in capsys.readouterr().err
 
@@ -196,6 +194,17 @@ def test_a_full_disk_loses_nothing_and_resume_is_bit_identical(
     assert_same_run(ref, small_disk / "run")
 
 
+def test_a_new_run_on_a_full_disk_leaves_nothing(small_disk, capsys):
+    filler = _fill(small_disk)
+    try:
+        assert main(_small_run(small_disk / "run", 2)) == 2
+        err = capsys.readouterr().err
+        assert "No space left on device" in err and len(err.strip().splitlines()) == 1
+        assert sorted(p.name for p in small_disk.iterdir()) == ["filler"]
+    finally:
+        filler.unlink()
+
+
 def test_reading_a_shipped_reproduction_changes_none_of_its_files(
     shipped, tmp_path, capsys
 ):
@@ -234,6 +243,8 @@ def test_a_read_only_filesystem_is_one_line(tmp_path, capsys, shipped):
             ["train", "kick", "--quiet", "--out", str(ro / "run")],
             ["model", "--out", str(ro / "m.xml")],
             ["replay", str(shipped), "--out", str(ro / "rp")],
+            # named by us, before the video encoder prints anything
+            ["render", str(shipped / "kick"), "--quiet", "--out", str(ro / "v.gif")],
         ):
             assert main(argv) == 2, argv
             err = capsys.readouterr().err

@@ -88,7 +88,8 @@ def test_format1_with_both_spellings_is_refused(tmp_path):
 
 def test_markers_summaries_and_frozen_files_of_older_versions(tmp_path):
     assert migrations.reproduction_marker({"budget": "quick"}) == {
-        "budget": "quick", "optimizer": "rcga", "engine": "numpy"
+        "budget": "quick", "optimizer": "rcga", "engine": "numpy",
+        "scene": {"kind": "flat", "terrains": 1, "aggregate": "mean"},
     }  # fmt: skip
     model = json.loads(json.dumps(rundir.config._table(LocustParams())))
     old = migrations.rules_summary({"model": {**model, "engine": "numpy"}}, "numba")

@@ -7,15 +7,16 @@ import subprocess
 import sys
 import time
 from pathlib import Path
+from types import SimpleNamespace
 
 import pytest
 
-from helpers import assert_same_run, exit_status
+from helpers import TINY_GENERATIONS, assert_same_run, exit_status
 from locustjump import rundir
 from locustjump.runs.multiseed import parse_seeds, reproduce_seeds
-from locustjump.runs.reproduce import TRAINED, Budget, reproduce
+from locustjump.runs.reproduce import TRAINED, Budget
 
-TINY = Budget("tiny", 4, {"kick": 1, "getup": 1, "return-legs": 1, "composed": 1})
+TINY = Budget("tiny", 4, TINY_GENERATIONS)  # that of conftest's tiny_reproduction
 QUIET = {"progress": False, "log": lambda s: None, "videos": False}
 SEEDS = (0, 1)
 
@@ -48,29 +49,50 @@ def assert_same_reproduction(a: Path, b: Path) -> None:
 
 
 @pytest.fixture(scope="module")
-def singles(tmp_path_factory) -> dict[int, Path]:
-    root = tmp_path_factory.mktemp("single")
-    for s in SEEDS:
-        reproduce(root / f"s{s}", budget=TINY, seed=s, **QUIET)
-    return {s: root / f"s{s}" for s in SEEDS}
+def singles(tiny_reproduction) -> dict[int, Path]:
+    """The single-seed reproductions (conftest: shared with test_composed)."""
+    return {s: tiny_reproduction(s) for s in SEEDS}
 
 
 @pytest.fixture(scope="module")
-def on_ray(tmp_path_factory, local_ray) -> Path:
+def on_ray(tmp_path_factory, local_ray) -> SimpleNamespace:
+    """A reproduction over seeds 0 and 1 started on threads in another
+    process, killed (kill -9) in the middle of seed 0 (its kick done, getup
+    under way), then continued as Ray tasks: seed 1 and the rest of seed 0
+    run on Ray. ``kept``: seed 0's kick checkpoint and (bytes, mtime) before
+    the continuation."""
     out = tmp_path_factory.mktemp("ray") / "seeds"
+    code = (
+        "from locustjump.runs.reproduce import Budget\n"
+        "from locustjump.runs.multiseed import reproduce_seeds\n"
+        f"b = Budget('tiny', 4, {dict(TINY.generations)!r})\n"
+        f"reproduce_seeds({str(out)!r}, [0, 1], budget=b, backend='threads', "
+        "threads=1, progress=False, videos=False, log=lambda s: None)\n"
+    )
+    proc = subprocess.Popen([sys.executable, "-c", code])
+    started = out / "seed-0" / "getup" / rundir.METRICS
+    deadline = time.monotonic() + 120
+    while not started.exists() and proc.poll() is None:
+        assert time.monotonic() < deadline
+        time.sleep(0.01)
+    proc.kill()
+    proc.wait()
+    assert not (out / "seed-1" / "kick").exists(), "killed too late to test"
+    kept = out / "seed-0" / "kick" / rundir.CHECKPOINT
+    before = (kept.read_bytes(), kept.stat().st_mtime_ns)
     reproduce_seeds(out, SEEDS, budget=TINY, backend="ray", **QUIET)
-    return out
+    return SimpleNamespace(out=out, kept=kept, before=before)
 
 
 def test_each_seed_on_ray_is_the_single_seed_reproduction(on_ray, singles):
     for s in SEEDS:
-        assert_same_reproduction(rundir.seed_dir(on_ray, s), singles[s])
-    text = (on_ray / rundir.RESULTS).read_text()
+        assert_same_reproduction(rundir.seed_dir(on_ray.out, s), singles[s])
+    text = (on_ray.out / rundir.RESULTS).read_text()
     assert "over 2 seeds" in text and "| kick | 2 of 2 |" in text
     assert "reproduced in |" in text and "0 of 2 seeds" in text
     assert "### Seed 1 ([results](seed-1/results.md))" in text
     assert "does composition help?" in text and "Not finished" not in text
-    html = (on_ray / rundir.REPORT).read_text()
+    html = (on_ray.out / rundir.REPORT).read_text()
     assert 'href="seed-1/report.html"' in html and "median [min, max]" in html
 
 
@@ -83,7 +105,7 @@ def test_seeds_on_threads_are_the_same(tmp_path, singles):
 def test_a_rerun_continues_what_is_unfinished_and_keeps_the_rest(
     on_ray, singles, tmp_path, local_ray
 ):
-    out = shutil.copytree(on_ray, tmp_path / "seeds")
+    out = shutil.copytree(on_ray.out, tmp_path / "seeds")
     # as if killed: seed 1's composed stage never ran, seed 0's monolithic
     # training finished but not its evaluation
     shutil.rmtree(out / "seed-1" / "composed")
@@ -149,29 +171,7 @@ def test_seeds_bad_combinations(tmp_path, capsys):
     assert sorted(p.name for p in single.iterdir()) == [rundir.MARKER]
 
 
-def test_a_killed_reproduction_continues_where_it_stopped(singles, tmp_path, local_ray):
-    """kill -9 in the middle of seed 0 (its kick done, getup under way), then
-    the same reproduction continued on Ray: identical to the single seeds."""
-    out = tmp_path / "seeds"
-    code = (
-        "from locustjump.runs.reproduce import Budget\n"
-        "from locustjump.runs.multiseed import reproduce_seeds\n"
-        f"b = Budget('tiny', 4, {dict(TINY.generations)!r})\n"
-        f"reproduce_seeds({str(out)!r}, [0, 1], budget=b, backend='threads', "
-        "threads=1, progress=False, videos=False, log=lambda s: None)\n"
-    )
-    proc = subprocess.Popen([sys.executable, "-c", code])
-    started = out / "seed-0" / "getup" / rundir.METRICS
-    deadline = time.monotonic() + 120
-    while not started.exists() and proc.poll() is None:
-        assert time.monotonic() < deadline
-        time.sleep(0.01)
-    proc.kill()
-    proc.wait()
-    assert not (out / "seed-1" / "kick").exists(), "killed too late to test"
-    kept = out / "seed-0" / "kick" / rundir.CHECKPOINT
-    before = (kept.read_bytes(), kept.stat().st_mtime_ns)
-    reproduce_seeds(out, SEEDS, budget=TINY, backend="ray", **QUIET)
-    assert (kept.read_bytes(), kept.stat().st_mtime_ns) == before
-    for s in SEEDS:
-        assert_same_reproduction(rundir.seed_dir(out, s), singles[s])
+def test_a_killed_reproduction_continues_where_it_stopped(on_ray):
+    """What the killed process finished (seed 0's kick) is kept as it was; the
+    continuation is the single seeds' reproduction (the test above)."""
+    assert (on_ray.kept.read_bytes(), on_ray.kept.stat().st_mtime_ns) == on_ray.before

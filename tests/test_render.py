@@ -136,7 +136,7 @@ def test_view_plays_under_a_virtual_display(rules_dir):
     if xvfb is None:
         pytest.skip("xvfb-run not installed (Debian package xvfb)")
     code = (
-        "from locustjump.present.render import view; "
+        "from locustjump.present.viewer import view; "
         f"view({str(rules_dir)!r}, duration=3)"
     )
     r = subprocess.run(

@@ -42,8 +42,11 @@ def test_run_report_is_self_contained(run_copy, capsys):
     text = page.read_text()
     assert "report.html" in capsys.readouterr().out
     # config, training summary, metrics of the re-simulated best genome
-    assert "[rcga]" in text and "wall time (s)" in text
-    assert "apex_height_ratio_to_rules" in text
+    # config.toml and the metrics as tables (a section, a dict: a nested table)
+    assert "<th>rcga</th><td><table><tr><th>population</th><td>50</td>" in text
+    assert "wall time (s)" in text and "<pre>" not in text
+    assert "<th>apex height ratio to rules</th>" in text
+    assert "<th>takeoff speed (m/s)</th>" in text and "{" not in text.split("<body")[1]
     assert "<td>True</td>" in text  # re-simulated fitness matches the record
     # everything embedded: no file or network reference
     srcs = re.findall(r'src="([^"]*)"', text)
@@ -68,14 +71,20 @@ def test_reproduction_report_has_the_results_table(shipped, tmp_path):
     assert total >= 15 and loaded == total
 
 
-def test_markdown_subset():
+def test_markdown_by_the_library(tmp_path):
+    (tmp_path / "f.png").write_bytes(b"\x89PNG")
     html = markdown_to_html(
-        "# T\n\nA `x` and **y**\nmore.\n\n| a | b |\n| --- | --- |\n| 1 | <2> |\n",
-        Path("."),
+        "# T\n\nA `x` and **y**\nmore.\n\n| a | b |\n| --- | --- |\n| 1 | <2> |\n"
+        "\nWhy:\n\n- one: `a`\n- two\n\n![fig](f.png) ![gone](nope.png)\n\n"
+        "[seed 0](seed-0/results.md)\n",
+        tmp_path,
     )
     assert "<h1>T</h1>" in html
-    assert "<p>A <code>x</code> and <strong>y</strong> more.</p>" in html
+    assert "<p>A <code>x</code> and <strong>y</strong>\nmore.</p>" in html
     assert "<th>a</th>" in html and "<td>&lt;2&gt;</td>" in html
+    assert "<ul>\n<li>one: <code>a</code></li>\n<li>two</li>\n</ul>" in html
+    assert 'src="data:image/png;base64,' in html and "(missing figure nope.png)" in html
+    assert 'href="seed-0/report.html"' in html
 
 
 def test_report_bad_input(tmp_path, capsys):

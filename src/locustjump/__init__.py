@@ -5,58 +5,55 @@ Behavior on the Artificial Creature under Virtual Physical Environment*, with
 MuJoCo and a real-coded genetic algorithm.
 """
 
-import os as _os
-import sys as _sys
+# Offscreen rendering: choose MuJoCo's OpenGL back end before anything imports
+# mujoco (EGL on a headless Linux machine; a back end whose library is missing
+# is switched off, so that only rendering fails, in one line).
+# Importing it chooses the back end.
+from locustjump import opengl as _opengl  # noqa: F401
 
-# Offscreen rendering on a headless Linux machine: EGL, if its library is
-# installed and the user chose no back end. MuJoCo reads MUJOCO_GL when it is
-# first imported, and that import fails outright if the named back end's
-# library is missing, so only a loadable EGL is chosen.
-if (
-    _sys.platform.startswith("linux")
-    and "MUJOCO_GL" not in _os.environ
-    and not (_os.environ.get("DISPLAY") or _os.environ.get("WAYLAND_DISPLAY"))
-):
-    import ctypes.util as _ctypes_util
+# isort: split
 
-    if _ctypes_util.find_library("EGL"):
-        _os.environ["MUJOCO_GL"] = "egl"
+import importlib as _importlib
 
 from locustjump import moved
-from locustjump.evo import (
-    CMAES,
-    RCGA,
-    CMAParams,
-    Optimizer,
-    RandomSearch,
-    RandomSearchParams,
-    RCGAParams,
-    make_optimizer,
-    register,
-)
-from locustjump.present.evaluate import evaluate_run
-from locustjump.rundir import load_run
-from locustjump.rundir.config import TrainConfig
-from locustjump.runs.trainer import Trainer, train
-from locustjump.sim.controller import MLP, Controller
-from locustjump.sim.engine.backends import ThreadBackend, make_backend
-from locustjump.sim.engine.episode import reference_rollout
-from locustjump.sim.engine.rollout import (
-    RolloutJob,
-    RolloutResult,
-    StartStates,
-    rollout,
-)
-from locustjump.sim.model import CONTROL_DT, LocustParams, load_model, to_mjcf
-from locustjump.tasks import (
-    BEHAVIOURS,
-    Behaviour,
-    get_behaviour,
-    register_behaviour,
-)
-from locustjump.tasks.reference import run_rules
-from locustjump.tasks.rules import RuleController
 from locustjump.version import __version__
+
+#: the public names, and the module each comes from: loaded when first used
+#: (``import locustjump`` stays light, so that ``locustjump``'s command line
+#: can answer Ctrl-C while MuJoCo, Numba and Matplotlib load)
+_FROM = {
+    "locustjump.evo": ("CMAES", "RCGA", "CMAParams", "Optimizer", "RandomSearch",
+                       "RandomSearchParams", "RCGAParams", "make_optimizer",
+                       "register"),
+    "locustjump.present.evaluate": ("evaluate_run",),
+    "locustjump.rundir": ("load_run",),
+    "locustjump.rundir.config": ("TrainConfig",),
+    "locustjump.runs.trainer": ("Trainer", "train"),
+    "locustjump.sim.controller": ("MLP", "Controller"),
+    "locustjump.sim.engine.backends": ("ThreadBackend", "make_backend"),
+    "locustjump.sim.engine.episode": ("reference_rollout",),
+    "locustjump.sim.engine.rollout": ("RolloutJob", "RolloutResult", "StartStates",
+                                      "rollout"),
+    "locustjump.sim.model": ("CONTROL_DT", "LocustParams", "load_model", "to_mjcf"),
+    "locustjump.tasks": ("BEHAVIOURS", "Behaviour", "get_behaviour",
+                         "register_behaviour"),
+    "locustjump.tasks.reference": ("run_rules",),
+    "locustjump.tasks.rules": ("RuleController",),
+}  # fmt: skip
+_MODULE_OF = {name: module for module, names in _FROM.items() for name in names}
+
+
+def __getattr__(name: str):
+    if name in _MODULE_OF:
+        value = getattr(_importlib.import_module(_MODULE_OF[name]), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'locustjump' has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *_MODULE_OF})
+
 
 moved.install()  # the module paths of 0.1 (locustjump.reproduce, ...)
 

@@ -1,7 +1,11 @@
 """``locustjump`` command line: thin wrappers over the library.
 
 Every error a user can cause ends in one line on stderr and exit status 2;
-Ctrl-C ends with status 130 and a line saying how to continue.
+Ctrl-C (or SIGTERM) ends with status 130 and a line saying how to continue,
+also while the command is still loading; anything unexpected (a bug) ends in
+one line naming the command and the log file that holds its traceback, exit
+status 1 (``--debug``: the traceback on stderr). See
+:mod:`locustjump.cli.dispatch`.
 """
 
 from __future__ import annotations
@@ -10,56 +14,25 @@ import signal
 import sys
 from collections.abc import Sequence
 
-from locustjump.cli.parser import build_parser
-from locustjump.errors import UserError
-
-#: how each command continues after an interruption
-_CONTINUE = {
-    "train": "rerun it with --resume to continue",
-    "reproduce": "rerun the same command to continue",
-}
-
-
-def _os_error(e: OSError) -> str:
-    where = f"{e.filename}: " if e.filename else ""
-    return f"{where}{e.strerror or e}"
-
-
-def main(argv: Sequence[str] | None = None) -> int:
-    argv = list(sys.argv[1:] if argv is None else argv)
-    parser = build_parser()
-    # an unknown option before the command: name it (argparse would first
-    # complain that the command is missing)
-    if (
-        argv
-        and argv[0].startswith("-")
-        and argv[0] not in ("-h", "--help", "--version")
-    ):
-        parser.error(f"unrecognized arguments: {argv[0]}")
-    args = parser.parse_args(argv)
-    previous = signal.signal(signal.SIGTERM, _interrupt)  # stop as on Ctrl-C
-    try:
-        return args.func(args)
-    except (UserError, ValueError, ImportError) as e:
-        print(f"locustjump: error: {e}", file=sys.stderr)
-    except OSError as e:
-        print(f"locustjump: error: {_os_error(e)}", file=sys.stderr)
-    except (OverflowError, MemoryError) as e:
-        print(
-            f"locustjump: error: a number is too large for this command ({e})",
-            file=sys.stderr,
-        )
-    except KeyboardInterrupt:
-        how = _CONTINUE.get(args.command, "nothing was half-written")
-        print(f"locustjump: interrupted ({how})", file=sys.stderr)
-        return 130
-    finally:
-        signal.signal(signal.SIGTERM, previous)
-    return 2
-
 
 def _interrupt(signum, frame) -> None:
     raise KeyboardInterrupt
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    previous = signal.signal(signal.SIGTERM, _interrupt)  # stop as on Ctrl-C
+    try:
+        # imported on call, not at the top: loading MuJoCo, Numba and
+        # Matplotlib takes a second or more, and a Ctrl-C meanwhile must end
+        # like any other, in one line, not in a traceback
+        from locustjump.cli.dispatch import dispatch
+
+        return dispatch(argv)
+    except KeyboardInterrupt:  # before the command began
+        print("locustjump: interrupted (nothing was written)", file=sys.stderr)
+        return 130
+    finally:
+        signal.signal(signal.SIGTERM, previous)
 
 
 if __name__ == "__main__":

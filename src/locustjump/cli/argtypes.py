@@ -20,11 +20,19 @@ def _as(kind, noun: str, name: str, text: str):
         ) from None
 
 
+#: the largest integer a run records (TOML's integers are 64-bit)
+INT_MAX = 2**63 - 1
+
+
 def _int_at_least(name: str, lo: int):
     def parse(text: str) -> int:
         v = _as(int, "an integer", name, text)
         if v < lo:
             raise argparse.ArgumentTypeError(f"{name} must be >= {lo}, got {v}")
+        if v > INT_MAX:
+            raise argparse.ArgumentTypeError(
+                f"{name} must be at most 2**63-1 (a 64-bit integer), got {v}"
+            )
         return v
 
     return parse
@@ -45,6 +53,13 @@ def _seeds(text: str) -> list[int]:
         return parse_seeds(text)
     except ValueError as e:
         raise argparse.ArgumentTypeError(str(e)) from None
+
+
+def _terrain_seeds(text: str) -> list[int]:
+    try:
+        return parse_seeds(text)
+    except ValueError as e:
+        raise argparse.ArgumentTypeError(f"--terrain-seeds {e}") from None
 
 
 def _finite_float(name: str, *, above: float | None = None, allow_equal: bool = False):

@@ -7,22 +7,62 @@ import json
 import sys
 
 from locustjump import rundir
-from locustjump.cli.resolve import resolve_config
+from locustjump.cli.resolve import resolve_config, scene_override, terrains_arg
 from locustjump.errors import UserError
 from locustjump.present.compare import convergence_figure, load_groups, table
-from locustjump.present.evaluate import evaluate_run
-from locustjump.present.render import render_run, view
+from locustjump.present.evaluate import (
+    TerrainEvaluation,
+    evaluate_run,
+    evaluate_terrains,
+)
+from locustjump.present.render import render_run
 from locustjump.present.report import write_report
 from locustjump.present.rules import write_rules_run
 from locustjump.present.stages import reporter_of
 from locustjump.present.stages.getup import sweep_run
+from locustjump.present.viewer import view
 from locustjump.runs.multiseed import reproduce_seeds
 from locustjump.runs.reproduce import replay, reproduce
 from locustjump.runs.trainer import train
 from locustjump.sim import model as lm
 from locustjump.sim.engine.backends import make_backend
+from locustjump.sim.scene import Flat, Scene
 from locustjump.tasks import behaviour_class, behaviour_names
 from locustjump.tasks.getup import sweep_angles
+
+
+def _scene(args: argparse.Namespace) -> Scene:
+    """The one scene of a command that makes its own episodes (flat unless
+    ``--scene``/``--terrain-seed`` say otherwise)."""
+    t = terrains_arg(args.scene, args.terrain_seed)
+    return Flat() if t is None else t.scene
+
+
+def terrain_table(te: TerrainEvaluation) -> str:
+    """``evaluate --terrain-seeds``' printout: a row per terrain, the summary."""
+    keys = ("jumps", "distance_m", "overturned", "recovered", "rules_fitness")
+    keys = tuple(k for k in keys if k in te.metrics[0])
+    head = f"{'seed':>6} {'fitness':>12} " + " ".join(f"{k:>13}" for k in keys)
+    lines = [f"{te.behaviour} on {te.scene} terrains (* = a training terrain)", head]
+    for s, f, t, m in zip(te.seeds, te.fitness, te.trained, te.metrics, strict=True):
+        cells = " ".join(
+            f"{m[k]:>13.4g}" if isinstance(m[k], float) else f"{m[k]!s:>13}"
+            for k in keys
+        )
+        lines.append(f"{s:>5}{'*' if t else ' '} {f:>12.6g} {cells}")
+    lines.append(
+        f"training fitness (recorded, {te.aggregate} of its terrains): "
+        f"{te.train_fitness:.6g}"
+    )
+    if te.held_out is None:
+        lines.append("held out: none (every terrain given was a training terrain)")
+    else:
+        n = te.trained.count(False)
+        lines.append(
+            f"held out ({te.aggregate} of {n} unseen terrains): {te.held_out:.6g}; "
+            f"generalisation gap (training - held out): {te.gap:.6g}"
+        )
+    return "\n".join(lines)
 
 
 def _backend(args: argparse.Namespace):
@@ -33,20 +73,26 @@ def _backend(args: argparse.Namespace):
 
 
 def cmd_model(args: argparse.Namespace) -> int:
-    out = rundir.prepare_out_file(args.out, force=args.force)
     p = lm.LocustParams(scale=args.scale, strut_stiffness=args.strut_stiffness)
-    rundir.atomic_write_text(out, lm.to_mjcf(p))
-    print(f"wrote {out} (scale {p.scale:g}, body length {p.body_length:.3g} m)")
+    scene = _scene(args)
+    with rundir.output_file(args.out, force=args.force) as out:
+        rundir.atomic_write_text(out, lm.to_mjcf(p, scene=scene))
+    print(
+        f"wrote {out} (scale {p.scale:g}, body length {p.body_length:.3g} m, "
+        f"scene {scene.name})"
+    )
     return 0
 
 
 def cmd_rules(args: argparse.Namespace) -> int:
 
-    out = rundir.check_out_dir(args.out, force=args.force)  # made once it ran
+    scene = _scene(args)
     p = lm.LocustParams(strut_stiffness=args.strut_stiffness)
-    run = write_rules_run(
-        out, args.change_time, args.steps, model_params=p, backend=_backend(args)
-    )
+    with rundir.output_dir(args.out, force=args.force) as out:
+        run = write_rules_run(
+            out, args.change_time, args.steps, model_params=p,
+            backend=_backend(args), scene=scene,
+        )  # fmt: skip
     apexes = ", ".join(f"{j.apex_height:.2f}" for j in run.jumps) or "none"
     print(f"{len(run.jumps)} jumps in {args.steps} steps; apex heights [m]: {apexes}")
     if run.unstable:
@@ -69,6 +115,9 @@ def cmd_train(args: argparse.Namespace) -> int:
         engine=args.engine,
         switch_every=args.switch_every,
         score_substeps=args.score_substeps,
+        scene=args.scene,
+        terrain_seed=args.terrain_seed,
+        terrains=args.terrains,
     )
     requires = behaviour_class(args.behaviour).requires
     dirs = {name: getattr(args, frozen_dest(name)) for name in frozen_options()}
@@ -109,11 +158,23 @@ def cmd_train(args: argparse.Namespace) -> int:
 
 def cmd_evaluate(args: argparse.Namespace) -> int:
 
-    ev = evaluate_run(args.run, backend=_backend(args))
+    scene = scene_override(args, args.run)
+    if args.terrain_seeds is not None:
+        te = evaluate_terrains(
+            args.run, args.terrain_seeds, scene=scene, backend=_backend(args)
+        )
+        print(json.dumps(te.to_dict(), indent=2) if args.json else terrain_table(te))
+        return 0
+    eval_dir = None
+    if args.out is not None:
+        eval_dir = rundir.check_out_dir(args.out, force=args.force)
+    ev = evaluate_run(args.run, backend=_backend(args), eval_dir=eval_dir, scene=scene)
     if args.json:
         print(json.dumps(ev.to_dict(), indent=2))
     else:
         status = "matches training" if ev.matches else "DIFFERS from training"
+        if ev.elsewhere:
+            status = "trained in another scene"
         print(
             f"{ev.behaviour}: fitness {ev.fitness:.10g} "
             f"(recorded {ev.recorded_fitness:.10g}: {status})"
@@ -135,7 +196,9 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
 def cmd_sweep_getup(args: argparse.Namespace) -> int:
 
     angles = sweep_angles(args.step_deg, args.from_deg, args.to_deg)
-    sw, files = sweep_run(args.run, angles, backend=_backend(args))
+    sw, files = sweep_run(
+        args.run, angles, backend=_backend(args), scene=scene_override(args, args.run)
+    )
     n_train = int(sw.training.sum())
     print(
         f"got up from {sw.got_up} of {sw.n_sweep} (the paper: 65 of 180); "
@@ -154,6 +217,7 @@ def cmd_reproduce(args: argparse.Namespace) -> int:
         "progress": not args.quiet,
         "videos": not args.no_videos,
         "monolithic": not args.no_monolithic,
+        "terrains": terrains_arg(args.scene, args.terrain_seed, args.terrains),
     }
     if args.seeds is not None:
         if args.actors is not None:
@@ -175,8 +239,9 @@ def cmd_reproduce(args: argparse.Namespace) -> int:
 def cmd_replay(args: argparse.Namespace) -> int:
 
     failed = 0
+    scene = scene_override(args)
     for stage, ev in replay(
-        args.dir, args.out, force=args.force, backend=_backend(args)
+        args.dir, args.out, force=args.force, backend=_backend(args), scene=scene
     ):
         status = "matches" if ev.matches else "DIFFERS from"
         failed += not ev.matches
@@ -203,6 +268,7 @@ def cmd_render(args: argparse.Namespace) -> int:
         force=args.force,
         progress=not args.quiet,
         backend=_backend(args),
+        scene=scene_override(args, args.dir),
     )
     print(f"wrote {out}")
     return 0
@@ -210,27 +276,33 @@ def cmd_render(args: argparse.Namespace) -> int:
 
 def cmd_view(args: argparse.Namespace) -> int:
 
-    view(args.dir, duration=args.duration)
+    view(args.dir, duration=args.duration, scene=scene_override(args, args.dir))
     return 0
 
 
 def cmd_report(args: argparse.Namespace) -> int:
 
-    print(f"wrote {write_report(args.dir, backend=_backend(args))}")
+    out = None
+    if args.out is not None:
+        out = rundir.prepare_out_file(args.out, force=args.force)
+    print(f"wrote {write_report(args.dir, backend=_backend(args), out=out)}")
     return 0
 
 
 def cmd_compare(args: argparse.Namespace) -> int:
 
-    figure = None
     if args.figure is not None:
-        figure = rundir.prepare_out_file(
-            args.figure, force=args.force, option="--figure"
-        )
+        rundir.prepare_out_file(args.figure, force=args.force, option="--figure")
     groups = load_groups(args.dirs, by=args.by)
-    print(table(groups, args.reference))
-    if figure is not None:
-        print(f"wrote {convergence_figure(groups, figure, title=args.title)}")
+    text = table(groups, args.reference)
+    if args.figure is not None:
+        with rundir.output_file(
+            args.figure, force=args.force, option="--figure"
+        ) as figure:
+            convergence_figure(groups, figure, title=args.title)
+    print(text)
+    if args.figure is not None:
+        print(f"wrote {args.figure}")
     return 0
 
 

@@ -1,4 +1,5 @@
-"""The argument parser of ``locustjump``: every command, option and check."""
+"""The argument parser of ``locustjump``: every command, option and check
+(the shared options: options.py; render, view, report, compare: showing.py)."""
 
 from __future__ import annotations
 
@@ -11,81 +12,44 @@ from locustjump.cli.argtypes import (
     _positive_float,
     _seeds,
     _substeps,
+    _terrain_seeds,
     out_path,
 )
-from locustjump.evo import optimizer_kinds
-from locustjump.present.compare import KEYS
-from locustjump.present.render import CAMERAS
+from locustjump.cli.options import (
+    add_backend,
+    add_optimizer,
+    add_scene,
+    behaviours_help,
+    strut_stiffness_arg,
+)
+from locustjump.cli.showing import add_showing_commands
 from locustjump.runs.reproduce import BUDGETS
 from locustjump.sim import model as lm
-from locustjump.sim.engine.backends import BACKENDS
-from locustjump.sim.engine.job import ENGINES
 from locustjump.tasks import behaviour_names
 from locustjump.tasks.rules import DEFAULT_CHANGE_TIME
 from locustjump.version import __version__
 
 
+class _Formatter(argparse.HelpFormatter):
+    """Wraps each line of a description or epilog on its own (a list stays a
+    list); argparse's default joins them into one paragraph."""
+
+    def _fill_text(self, text: str, width: int, indent: str) -> str:
+        return "\n".join(
+            super(_Formatter, self)._fill_text(line, width, indent)
+            for line in text.splitlines()
+        )
+
+
 class _Parser(argparse.ArgumentParser):
     """argparse with one-line errors (``locustjump: error: ...``), exit 2."""
 
+    def __init__(self, *args, **kwargs) -> None:
+        kwargs.setdefault("formatter_class", _Formatter)
+        super().__init__(*args, **kwargs)
+
     def error(self, message: str):  # type: ignore[override]
         self.exit(2, f"locustjump: error: {message}\n")
-
-
-def _strut_stiffness_arg(p: argparse.ArgumentParser) -> None:
-    p.add_argument(
-        "--strut-stiffness",
-        type=_positive_float("--strut-stiffness", allow_zero=True),
-        default=0.0,
-        metavar="NM_PER_RAD",
-        help="fore and middle legs on sprung hinges of this stiffness at real "
-        "scale, e.g. 2e-4 (default 0: rigid struts, the trained creature)",
-    )
-
-
-def _add_backend(p: argparse.ArgumentParser) -> None:
-
-    p.add_argument(
-        "--backend",
-        choices=BACKENDS,
-        default="threads",
-        help="where episodes run (default threads; the result does not depend on it)",
-    )
-    p.add_argument(
-        "--threads",
-        type=_int_at_least("--threads", 1),
-        help="simulation threads (threads: default all CPUs; ray: per actor, "
-        "default 1); the result does not depend on it",
-    )
-    p.add_argument(
-        "--address",
-        metavar="HOST:PORT",
-        help="ray: the cluster to join ('auto': the one `ray start` made here; "
-        "default: a local Ray instance)",
-    )
-    p.add_argument(
-        "--actors",
-        type=_int_at_least("--actors", 1),
-        help="ray: how many actors (default: the cluster's CPUs / --threads)",
-    )
-
-
-def _add_optimizer(p: argparse.ArgumentParser, default: str | None) -> None:
-
-    p.add_argument(
-        "--optimizer",
-        choices=optimizer_kinds(),
-        default=default,
-        help="rcga: the paper's GA (default); cma: CMA-ES (pycma); random: "
-        "random search",
-    )
-    p.add_argument(
-        "--engine",
-        choices=ENGINES,
-        help="how the controllers are computed between physics steps: numba "
-        "(compiled, the default for new runs) or numpy (the reference; runs "
-        "made before the compiled path); recorded in config.toml",
-    )
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -97,38 +61,76 @@ def build_parser() -> argparse.ArgumentParser:
         ),
     )
     ap.add_argument("--version", action="version", version=f"locustjump {__version__}")
+    ap.add_argument(
+        "--debug",
+        action="store_true",
+        help="on an unexpected error, also print its traceback (anywhere on the "
+        "command line)",
+    )
     sub = ap.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
-    p = sub.add_parser("model", help="write the MJCF model of the creature")
+    p = sub.add_parser(
+        "model",
+        help="write the MJCF model of the creature",
+        description=(
+            "Write the complete MJCF model (creature + flat floor) that training "
+            "simulates; stock MuJoCo loads it (python -m mujoco.viewer --mjcf=FILE)."
+        ),
+    )
     p.add_argument(
         "--scale",
         type=_positive_float("--scale"),
         default=lm.LocustParams().scale,
-        help="size over a real locust",
+        metavar="FACTOR",
+        help="size over a real desert locust, a factor "
+        f"(default {lm.LocustParams().scale:g})",
     )
-    _strut_stiffness_arg(p)
-    p.add_argument("--out", type=out_path, required=True, help="MJCF file to write")
-    p.add_argument("--force", action="store_true", help="overwrite --out")
+    strut_stiffness_arg(p)
+    add_scene(p)
+    p.add_argument(
+        "--out", type=out_path, required=True, metavar="FILE",
+        help="the MJCF file to write (required)",
+    )  # fmt: skip
+    p.add_argument(
+        "--force", action="store_true", help="overwrite --out (default: refuse)"
+    )
     p.set_defaults(func=cmd.cmd_model)
 
-    p = sub.add_parser("rules", help="run the rule-based successive jumping (Fig. 5)")
+    p = sub.add_parser(
+        "rules",
+        help="run the rule-based successive jumping (Fig. 5)",
+        description=(
+            "Run the paper's rule-based successive jumping (section 2.2) and write "
+            "DIR/trajectory.csv (one row per control step), DIR/trajectory.png "
+            "and DIR/summary.json (change time, steps, creature, engine, apexes)."
+        ),
+    )
     p.add_argument(
         "--change-time",
         type=_positive_float("--change-time", allow_zero=True),
         default=DEFAULT_CHANGE_TIME,
         metavar="SECONDS",
-        help=f"touch time before a kick (default {DEFAULT_CHANGE_TIME})",
+        help=f"touch time before a kick, in seconds (default {DEFAULT_CHANGE_TIME})",
     )
     p.add_argument(
         "--steps",
         type=_int_at_least("--steps", 1),
         default=3000,
-        help="control steps of 1/120 s (default 3000)",
+        metavar="STEPS",
+        help="episode length in control steps of 1/120 s (default 3000: 25 s)",
     )
-    _strut_stiffness_arg(p)
-    _add_backend(p)
-    p.add_argument("--out", type=out_path, required=True, help="output directory")
-    p.add_argument("--force", action="store_true", help="write into a non-empty --out")
+    strut_stiffness_arg(p)
+    add_scene(p)
+    add_backend(p)
+    p.add_argument(
+        "--out", type=out_path, required=True, metavar="DIR",
+        help="output directory (required)",
+    )  # fmt: skip
+    p.add_argument(
+        "--force",
+        action="store_true",
+        help="write into a non-empty --out (default: refuse)",
+    )
     p.set_defaults(func=cmd.cmd_rules)
 
     p = sub.add_parser(
@@ -138,37 +140,63 @@ def build_parser() -> argparse.ArgumentParser:
             "Evolve a behaviour. DIR receives config.toml, metrics.csv, best.npz, "
             "checkpoint.npz (every generation) and fitness.png."
         ),
-    )
-    p.add_argument("behaviour", choices=behaviour_names())
-    _add_optimizer(p, None)
-    p.add_argument(
-        "--population", type=_int_at_least("--population", 1), help="default 50"
+        epilog=behaviours_help(),
     )
     p.add_argument(
-        "--generations", type=_int_at_least("--generations", 1), help="default 1000"
+        "behaviour",
+        choices=behaviour_names(),
+        metavar="BEHAVIOUR",
+        help="what to evolve: " + ", ".join(behaviour_names()) + " (see below)",
     )
-    p.add_argument("--seed", type=_int_at_least("--seed", 0), help="default 0")
-    _add_backend(p)
+    add_optimizer(p, None)
+    p.add_argument(
+        "--population",
+        type=_int_at_least("--population", 1),
+        metavar="N",
+        help="genomes per generation (default 50, the paper's)",
+    )
+    p.add_argument(
+        "--generations",
+        type=_int_at_least("--generations", 1),
+        metavar="N",
+        help="generations to train (default 1000, the paper's)",
+    )
+    p.add_argument(
+        "--seed",
+        type=_int_at_least("--seed", 0),
+        metavar="N",
+        help="random seed of the optimizer (default 0); same seed, same run",
+    )
+    add_scene(p, train=True)
+    add_backend(p)
     p.add_argument(
         "--config",
         metavar="FILE",
-        help="TOML file of settings (a run's config.toml is one); options override it",
+        help="TOML file of settings (a run's config.toml is one); options override "
+        "it (default: none, the paper's settings)",
     )
     p.add_argument(
-        "--out", type=out_path, required=True, metavar="DIR", help="run directory"
+        "--out",
+        type=out_path,
+        required=True,
+        metavar="DIR",
+        help="run directory (required; a new run refuses a non-empty one)",
     )
     p.add_argument(
         "--resume",
         action="store_true",
         help="continue the run in DIR (a larger --generations extends it)",
     )
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument(
+        "--quiet", action="store_true", help="no progress bar (default: shown)"
+    )
     for name in cmd.frozen_options():
         p.add_argument(
             f"--{name}",
             dest=cmd.frozen_dest(name),
             metavar="DIR",
-            help=f"composed: the {name} run whose best network it switches to",
+            help=f"composed: the {name} run whose best network it switches to "
+            "(required for composed)",
         )
     p.add_argument(
         "--switch-every",
@@ -182,7 +210,8 @@ def build_parser() -> argparse.ArgumentParser:
         type=_substeps,
         metavar="S,S",
         help="beyond the paper: also score every genome with the physics at these "
-        "substeps a control step; its fitness is the worst of all resolutions",
+        "substeps a control step; its fitness is the worst of all resolutions "
+        "(default: the model's substeps only)",
     )
     p.set_defaults(func=cmd.cmd_train)
 
@@ -191,12 +220,37 @@ def build_parser() -> argparse.ArgumentParser:
         help="re-simulate a run's best genome, print its metrics",
         description=(
             "Re-simulate the best genome of run DIR; print its fitness (checked "
-            "against the recorded one) and behaviour metrics; write DIR/eval/."
+            "against the recorded one) and behaviour metrics; write trajectories "
+            "and figures into DIR/eval/ (for a shipped run under results/: "
+            "runs/shipped/<same path>/eval/) or --out."
         ),
     )
-    p.add_argument("run", metavar="DIR")
-    p.add_argument("--json", action="store_true", help="print JSON")
-    _add_backend(p)
+    p.add_argument("run", metavar="DIR", help="a training run directory")
+    p.add_argument(
+        "--json", action="store_true", help="print JSON (default: readable text)"
+    )
+    p.add_argument(
+        "--out",
+        type=out_path,
+        metavar="OUT",
+        help="write the trajectories and figures here (default: DIR/eval, "
+        "rewritten on every call; a shipped run's: runs/shipped/<path>/eval)",
+    )
+    p.add_argument(
+        "--force",
+        action="store_true",
+        help="write into a non-empty --out (default: refuse)",
+    )
+    add_scene(p, of_run=True)
+    p.add_argument(
+        "--terrain-seeds",
+        type=_terrain_seeds,
+        metavar="A-B",
+        help="re-score the best genome on these terrains (e.g. 100-119 or "
+        "100,105), print each, their mean and the generalisation gap to the "
+        "training fitness (terrains it trained on are marked; default: none)",
+    )
+    add_backend(p)
     p.set_defaults(func=cmd.cmd_evaluate)
 
     p = sub.add_parser(
@@ -205,14 +259,34 @@ def build_parser() -> argparse.ArgumentParser:
         description=(
             "Evaluate a getup run's best controller from start states rolled in "
             "--step-deg steps between --from-deg and --to-deg (plus the 5 "
-            "training states); write DIR/sweep/sweep.csv and sweep.png."
+            "training states); write DIR/sweep/sweep.csv and sweep.png (for a "
+            "shipped run under results/: runs/shipped/<same path>/sweep/)."
         ),
     )
-    p.add_argument("run", metavar="DIR")
-    p.add_argument("--step-deg", type=_finite_float("--step-deg"), default=1.0)
-    p.add_argument("--from-deg", type=_finite_float("--from-deg"), default=90.0)
-    p.add_argument("--to-deg", type=_finite_float("--to-deg"), default=270.0)
-    _add_backend(p)
+    p.add_argument("run", metavar="DIR", help="a getup training run directory")
+    p.add_argument(
+        "--step-deg",
+        type=_finite_float("--step-deg"),
+        default=1.0,
+        metavar="DEG",
+        help="roll angle between two start states, in degrees (default 1)",
+    )
+    p.add_argument(
+        "--from-deg",
+        type=_finite_float("--from-deg"),
+        default=90.0,
+        metavar="DEG",
+        help="first start roll angle, in degrees (default 90: on its side)",
+    )
+    p.add_argument(
+        "--to-deg",
+        type=_finite_float("--to-deg"),
+        default=270.0,
+        metavar="DEG",
+        help="last start roll angle, in degrees, included (default 270)",
+    )
+    add_scene(p, of_run=True)
+    add_backend(p)
     p.set_defaults(func=cmd.cmd_sweep_getup)
 
     p = sub.add_parser(
@@ -232,16 +306,22 @@ def build_parser() -> argparse.ArgumentParser:
         choices=tuple(BUDGETS),
         default="quick",
         help=(
-            "population 50 x generations of kick/getup/return-legs/composed; "
-            "quick: 30/10/20/30 (the default; its composed controller of seed 0 "
-            "does not jump); demo: 100/20/60/30 (what `make demo` runs, with "
-            "--no-monolithic); long: 100/20/60/120; paper: 1000 each (about 2 h "
-            "on 2 cores, plus about 2.5 h for the monolithic baseline). The "
-            "monolithic baseline gets the sum of the four"
+            "quick (the default): population 50 x 30/10/20/30 generations "
+            "(kick/getup/return-legs/composed; its composed controller of seed "
+            "0 does not jump); demo: 50 x 100/20/60/30 (what `make demo` runs, "
+            "with --no-monolithic); long: 50 x 100/20/60/120; paper: 50 x 1000 "
+            "per stage, the paper's (the monolithic baseline gets the sum of "
+            "the four)"
         ),
     )
     which = p.add_mutually_exclusive_group()
-    which.add_argument("--seed", type=_int_at_least("--seed", 0), default=0)
+    which.add_argument(
+        "--seed",
+        type=_int_at_least("--seed", 0),
+        default=0,
+        metavar="N",
+        help="the random seed of every stage (default 0)",
+    )
     which.add_argument(
         "--seeds",
         type=_seeds,
@@ -249,21 +329,30 @@ def build_parser() -> argparse.ArgumentParser:
         help="several seeds, e.g. 0-9 or 0,3,7: DIR/seed-<s>/ each, results "
         "across seeds in DIR/results.md (a rerun may add seeds)",
     )
-    _add_optimizer(p, "rcga")
-    _add_backend(p)
-    p.add_argument("--out", type=out_path, required=True, metavar="DIR")
-    p.add_argument("--quiet", action="store_true", help="no progress bars")
+    add_optimizer(p, "rcga")
+    add_scene(p, train=True)
+    add_backend(p)
+    p.add_argument(
+        "--out",
+        type=out_path,
+        required=True,
+        metavar="DIR",
+        help="reproduction directory (required; rerun into it to continue)",
+    )
+    p.add_argument(
+        "--quiet", action="store_true", help="no progress bars (default: shown)"
+    )
     p.add_argument(
         "--no-videos",
         action="store_true",
-        help="skip the per-stage videos (made when offscreen rendering works)",
+        help="skip the per-stage videos (default: made when offscreen rendering works)",
     )
     p.add_argument(
         "--no-monolithic",
         action="store_true",
         help="leave out the monolithic baseline (beyond the paper; at the paper's "
         "budget it takes as long as the other stages together); rerun without "
-        "this flag to add it",
+        "this flag to add it (default: included)",
     )
     p.set_defaults(func=cmd.cmd_reproduce)
 
@@ -278,93 +367,19 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("dir", metavar="DIR", help="a reproduction directory")
     p.add_argument(
-        "--out", type=out_path, required=True, metavar="OUT", help="output directory"
-    )
-    p.add_argument("--force", action="store_true", help="write into a non-empty OUT")
-    _add_backend(p)
-    p.set_defaults(func=cmd.cmd_replay)
-
-    p = sub.add_parser(
-        "render",
-        help="render a run's best controller (or a rule-based run) to a video",
-        description=(
-            "Re-simulate the best controller of run DIR (or the rule-based run "
-            "of a `locustjump rules` directory) and render it offscreen to an "
-            "MP4 or GIF (needs the extra locustjump[video]). Episodes from "
-            "several start states play side by side; the composed behaviour "
-            "shows its active simple behaviour."
-        ),
-    )
-    p.add_argument("dir", metavar="DIR")
-    p.add_argument(
         "--out",
         type=out_path,
-        metavar="VIDEO",
-        help="a .mp4 or .gif (default DIR/video.mp4)",
+        required=True,
+        metavar="OUT",
+        help="output directory (required; DIR itself is never written)",
     )
     p.add_argument(
-        "--fps",
-        type=_positive_float("--fps"),
-        default=60.0,
-        help="frames per second of simulated time, at most 120 (default 60)",
+        "--force",
+        action="store_true",
+        help="write into a non-empty OUT (default: refuse)",
     )
-    p.add_argument("--camera", choices=CAMERAS, default=CAMERAS[0])
-    p.add_argument("--force", action="store_true", help="overwrite --out")
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
-    _add_backend(p)
-    p.set_defaults(func=cmd.cmd_render)
-
-    p = sub.add_parser(
-        "view",
-        help="play a run's best controller live in MuJoCo's viewer",
-        description=(
-            "Open MuJoCo's interactive viewer and run the best controller of run "
-            "DIR (or a rule-based run) live, in real time, looping over its start "
-            "states. Needs a display."
-        ),
-    )
-    p.add_argument("dir", metavar="DIR")
-    p.add_argument(
-        "--duration",
-        type=_positive_float("--duration"),
-        metavar="SECONDS",
-        help="close after this many seconds (default: when the window is closed)",
-    )
-    p.set_defaults(func=cmd.cmd_view)
-
-    p = sub.add_parser(
-        "report",
-        help="write DIR/report.html, one self-contained page about a run",
-        description=(
-            "Write DIR/report.html for a training run or a reproduction: config, "
-            "fitness curves, metrics, figures and videos embedded (no network "
-            "needed); for a reproduction also the results table against the paper."
-        ),
-    )
-    p.add_argument("dir", metavar="DIR")
-    _add_backend(p)
-    p.set_defaults(func=cmd.cmd_report)
-
-    p = sub.add_parser(
-        "compare",
-        help="compare training runs as samples (e.g. optimizers at equal budget)",
-        description=(
-            "Group run directories by a config key (default the optimizer) and "
-            "print per group the best fitness median, quartiles and range, and a "
-            "two-sided Mann-Whitney U test against the reference group (needs "
-            "SciPy: locustjump[study]); --figure draws the convergence curves "
-            "(median and interquartile band against genome evaluations)."
-        ),
-    )
-    p.add_argument("dirs", nargs="+", metavar="DIR", help="training run directories")
-    p.add_argument("--by", default="optimizer", metavar="KEY[,KEY]",
-                   help=f"group by ({', '.join(KEYS)}, or several joined by "
-                   "commas; default optimizer)")  # fmt: skip
-    p.add_argument("--reference", help="the group the others are tested against "
-                   "(default: the first)")  # fmt: skip
-    p.add_argument("--figure", metavar="FILE", help="write the convergence curves")
-    p.add_argument("--title", default="", help="the figure's title (default: what "
-                   "its lines and bands are)")  # fmt: skip
-    p.add_argument("--force", action="store_true", help="overwrite FILE")
-    p.set_defaults(func=cmd.cmd_compare)
+    add_scene(p, of_run=True)
+    add_backend(p)
+    p.set_defaults(func=cmd.cmd_replay)
+    add_showing_commands(sub)
     return ap

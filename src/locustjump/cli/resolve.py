@@ -9,7 +9,8 @@ from pathlib import Path
 from locustjump import rundir
 from locustjump.errors import UserError
 from locustjump.evo import params_class
-from locustjump.rundir.config import TrainConfig
+from locustjump.rundir.config import TrainConfig, terrains_from_table
+from locustjump.sim.scene import Scene, Terrains, scene_class, scene_names
 
 
 def resolve_config(
@@ -25,6 +26,9 @@ def resolve_config(
     engine: str | None = None,
     switch_every: int | None = None,
     score_substeps: tuple[int, ...] | None = None,
+    scene: str | None = None,
+    terrain_seed: int | None = None,
+    terrains: int | None = None,
 ) -> TrainConfig:
     """The configuration ``locustjump train`` runs: a resumed run's own
     ``config.toml``, or the defaults overridden by a ``config`` file, and then
@@ -37,7 +41,12 @@ def resolve_config(
             raise UserError("--resume reads the run's own config.toml; drop --config")
         path = Path(out) / rundir.CONFIG
         if not path.is_file():
-            raise UserError(f"--resume: {out} holds no run (no {rundir.CONFIG})")
+            stopped = Path(out).is_dir() and rundir.is_unstarted(Path(out))
+            raise UserError(
+                f"--resume: {out} holds no run (no {rundir.CONFIG})"
+                + ("; it was stopped before it started: rerun without --resume"
+                   if stopped else "")
+            )  # fmt: skip
         cfg = rundir.load_config(path)
         if cfg.behaviour != behaviour:  # the command's behaviour, not an option
             raise UserError(
@@ -62,6 +71,7 @@ def resolve_config(
         cfg = cfg.replace(seed=seed)
     if engine is not None:
         cfg = cfg.replace(engine=engine)
+    cfg = cfg.replace(scene=terrains_arg(scene, terrain_seed, terrains, cfg.scene))
     if switch_every is not None:
         if not hasattr(cfg.options, "switch_every"):
             raise UserError(
@@ -90,3 +100,72 @@ def _checked(option: str, make, *args, **changes):
         return make(*args, **changes)
     except ValueError as e:
         raise UserError(f"{option}: {e}") from None
+
+
+def terrains_arg(
+    scene: str | None,
+    terrain_seed: int | None = None,
+    terrains: int | None = None,
+    base: Terrains | None = None,
+) -> Terrains | None:
+    """``--scene`` (a name, or a TOML file with a ``[scene]`` table),
+    ``--terrain-seed`` and ``--terrains`` over ``base`` (a configuration's or
+    a run's own; ``None``: the flat floor); ``None`` if none is given and
+    there is no ``base``."""
+    if scene is None and terrain_seed is None and terrains is None:
+        return base
+    t = Terrains() if base is None else base
+    if scene is not None:
+        t = _scene_named(scene)
+    if terrain_seed is not None:
+        if t.scene.with_seed(terrain_seed + 1) == t.scene:
+            raise UserError(
+                f"--terrain-seed: the {t.scene.name} scene has no terrains to "
+                f"choose from (e.g. --scene debris)"
+            )
+        t = dataclasses.replace(t, scene=t.scene.with_seed(terrain_seed))
+    if terrains is not None:
+        t = _checked("--terrains", dataclasses.replace, t, count=terrains)
+    return t
+
+
+def _scene_named(text: str) -> Terrains:
+    if text in scene_names():
+        return Terrains(scene_class(text)())
+    path = Path(text)
+    if path.suffix != ".toml":
+        raise UserError(
+            f"--scene: unknown scene {text!r}; choose from "
+            f"{', '.join(scene_names())}, or give a .toml file with a [scene] table"
+        )
+    if not path.is_file():
+        raise UserError(f"--scene: {text}: no such file")
+    table = rundir.read_toml(path)
+    if "scene" not in table:
+        raise UserError(f"--scene: {text}: no [scene] table")
+    return terrains_from_table(table["scene"], text)
+
+
+def own_terrains(path: str | os.PathLike) -> Terrains:
+    """The terrains of run directory ``path`` (the flat floor for a rule-based
+    run made before scenes)."""
+    path = Path(path)
+    if rundir.is_run(path):
+        return rundir.load_config(path / rundir.CONFIG).scene
+    if rundir.is_rules_run(path):
+        summary = rundir.read_json(path / rundir.RULES_SUMMARY)
+        scene = summary.get("scene", {}) if isinstance(summary, dict) else {}
+        return terrains_from_table(scene, str(path / rundir.RULES_SUMMARY))
+    raise UserError(f"--terrain-seed: {path} is not a run; give --scene too")
+
+
+def scene_override(args, path: str | os.PathLike | None = None) -> Scene | None:
+    """The scene a command that reads directory ``path`` runs in, if its
+    ``--scene``/``--terrain-seed`` ask for another than the run's own."""
+    if args.scene is None and args.terrain_seed is None:
+        return None
+    base = None
+    if args.scene is None and path is not None:
+        base = own_terrains(path)
+    t = terrains_arg(args.scene, args.terrain_seed, base=base)
+    return None if t is None else t.scene

@@ -72,7 +72,10 @@ def rng_from_state(text: Any) -> np.random.Generator:
     """Inverse of :func:`rng_state`."""
 
     s = json.loads(str(text))
-    bg = getattr(np.random, s["bit_generator"])()
+    kind = getattr(np.random, str(s["bit_generator"]), None)
+    if not (isinstance(kind, type) and issubclass(kind, np.random.BitGenerator)):
+        raise ValueError(f"unknown bit generator {s['bit_generator']!r}")
+    bg = kind()
     bg.state = s
     return np.random.Generator(bg)
 
@@ -208,6 +211,8 @@ class Optimizer(ABC):
         self._best_fitness = float(fitness)
         if self._best.shape != (self.num_params,):
             raise ValueError(f"best genome has shape {self._best.shape}")
+        if not np.isfinite(self._best).all() or np.isnan(self._best_fitness):
+            raise ValueError("best genome or its fitness is not finite")
 
     def stop(self) -> dict[str, bool | int | float | str]:
         """Why the optimizer stops before the budget, as pycma's ``stop()``:

@@ -303,6 +303,8 @@ class RCGA(Optimizer):
                 f"population has shape {self.population.shape} at generation "
                 f"{self.generation}, expected ({n}, {self.num_params})"
             )
+        if not np.isfinite(self.population).all():
+            raise ValueError("population is not finite")
         if self.fitness.shape != (n,) or np.isnan(self.fitness).any():
             raise ValueError("fitness has the wrong shape or contains NaN")
         # elitism keeps the best so far first (without elites: the best of

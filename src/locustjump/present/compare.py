@@ -90,6 +90,8 @@ def load_groups(
         cfg, _, best = rundir.load_run(d)
         behaviours.add(cfg.behaviour)
         m = rundir.read_metrics(d / rundir.METRICS)
+        if not len(m):
+            raise UserError(f"{d / rundir.METRICS}: holds no generation yet")
         evals = np.cumsum(m["evaluations"])
         found.setdefault(_key(cfg, by), []).append(
             (d, best.fitness, int(evals[-1]), (evals, np.maximum.accumulate(m["best"])))

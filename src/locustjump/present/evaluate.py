@@ -7,9 +7,13 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+import numpy as np
+
 from locustjump import rundir
+from locustjump.errors import UserError
 from locustjump.present.stages import Episodes, reporter_of
 from locustjump.sim.engine.backends import ThreadBackend
+from locustjump.sim.scene import Scene, Terrains
 
 if TYPE_CHECKING:
     from locustjump.sim.engine.backends import Backend
@@ -22,10 +26,13 @@ class Evaluation:
     recorded_fitness: float
     metrics: dict[str, Any]
     files: list[Path]
+    #: evaluated in another scene than the run trained in (``--scene``): its
+    #: fitness is not expected to be the recorded one
+    elsewhere: bool = False
 
     @property
     def matches(self) -> bool:
-        return self.fitness == self.recorded_fitness
+        return self.elsewhere or self.fitness == self.recorded_fitness
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -33,6 +40,7 @@ class Evaluation:
             "fitness": self.fitness,
             "recorded_fitness": self.recorded_fitness,
             "fitness_matches": self.matches,
+            "other_scene": self.elsewhere,
             "metrics": self.metrics,
             "files": [str(f) for f in self.files],
         }
@@ -43,21 +51,39 @@ def evaluate_run(
     *,
     backend: Backend | None = None,
     eval_dir: str | os.PathLike | None = None,
+    scene: Scene | None = None,
 ) -> Evaluation:
-    """Re-simulate a run's best genome; write ``DIR/eval/`` (trajectory CSVs and
-    the behaviour's figures), or ``eval_dir`` if given.
+    """Re-simulate a run's best genome; write its trajectory CSVs and the
+    behaviour's figures into ``eval_dir``, by default ``DIR/eval/`` (for a
+    shipped run under ``results/``: ``runs/shipped/<same path>/eval/``,
+    :func:`locustjump.rundir.derived_dir`). On the run's training terrains,
+    or in ``scene`` if given (then its fitness need not be the recorded one).
+    Trained on several terrains, its fitness is theirs combined (as
+    recorded); its metrics and figures are of the first.
 
     ``eval/`` holds derived files only: they are rewritten on every call.
     """
+    out = Path(path)
+    if eval_dir is None:
+        ev = rundir.derived_dir(out) / rundir.EVAL
+        if ev.resolve().parent != out.resolve():  # a shipped run is not written
+            return evaluate_run(out, backend=backend, eval_dir=ev, scene=scene)
+        rundir.load_run(out)  # named before the lock is asked for
+        with rundir.locked(out):  # the run's own eval/: from reading to writing
+            return evaluate_run(out, backend=backend, eval_dir=ev, scene=scene)
     if backend is None:
         backend = ThreadBackend()
-    out = Path(path)
     cfg, beh, best = rundir.load_run(out)
+    elsewhere = scene is not None and Terrains(scene) != beh.terrains
+    if scene is not None:
+        beh = beh.on(scene)
     p = cfg.model
     fit, res = beh.evaluate(
         best.genome[None], p, backend=backend, engine=cfg.engine,
         record=beh.eval_record, label=f"evaluate {cfg.behaviour}",
     )  # fmt: skip
+    # fitness: over every training terrain; metrics, figures: the first one's
+    res = res.head(len(beh.start_states(p)))
     reference = beh.reference(p, backend=backend, engine=cfg.engine)
     metrics = (  # a behaviour without a reference need not take one
         beh.metrics(res, p, best.genome)
@@ -65,14 +91,14 @@ def evaluate_run(
         else beh.metrics(res, p, best.genome, reference)
     )
     episodes = Episodes(beh, res, p, reference)
-    ev = out / rundir.EVAL if eval_dir is None else Path(eval_dir)
-    if eval_dir is None:
-        with rundir.locked(out):
-            return _write(cfg, best, episodes, float(fit[0]), metrics, ev)
-    return _write(cfg, best, episodes, float(fit[0]), metrics, ev)
+    return _write(
+        cfg, best, episodes, float(fit[0]), metrics, Path(eval_dir), elsewhere
+    )
 
 
-def _write(cfg, best, episodes: Episodes, fitness, metrics, ev: Path) -> Evaluation:
+def _write(
+    cfg, best, episodes: Episodes, fitness, metrics, ev: Path, elsewhere: bool
+) -> Evaluation:
     """Trajectory CSVs and the behaviour's figures into ``ev``."""
     beh, res = episodes.behaviour, episodes.res
     ev.mkdir(parents=True, exist_ok=True)
@@ -86,4 +112,89 @@ def _write(cfg, best, episodes: Episodes, fitness, metrics, ev: Path) -> Evaluat
             files[-1], res["qpos"][e], res["obs"][e], res["ctrl"][e]
         )
     files += reporter_of(beh).write_figures(episodes, ev)
-    return Evaluation(cfg.behaviour, fitness, best.fitness, metrics, files)
+    return Evaluation(cfg.behaviour, fitness, best.fitness, metrics, files, elsewhere)
+
+
+@dataclass
+class TerrainEvaluation:
+    """A run's best genome re-scored terrain by terrain (:func:`evaluate_terrains`)."""
+
+    behaviour: str
+    scene: str  #: the scene's kind
+    seeds: list[int]  #: terrain seeds, in order
+    fitness: list[float]  #: on each
+    trained: list[bool]  #: whether training scored genomes on it
+    metrics: list[dict[str, Any]]  #: the behaviour's metrics on each
+    train_fitness: float  #: recorded: the aggregate over the training terrains
+    aggregate: str  #: how training combined its terrains (mean or min)
+
+    @property
+    def held_out(self) -> float | None:
+        """The aggregate (as in training) over the terrains training never saw."""
+        f = [f for f, t in zip(self.fitness, self.trained, strict=True) if not t]
+        if not f:
+            return None
+        return float(np.min(f) if self.aggregate == "min" else np.mean(f))
+
+    @property
+    def gap(self) -> float | None:
+        """Generalisation gap: training fitness minus :attr:`held_out`."""
+        h = self.held_out
+        return None if h is None else self.train_fitness - h
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "behaviour": self.behaviour,
+            "scene": self.scene,
+            "aggregate": self.aggregate,
+            "train_fitness": self.train_fitness,
+            "held_out_fitness": self.held_out,
+            "generalisation_gap": self.gap,
+            "terrains": [
+                {"seed": s, "fitness": f, "trained": t, "metrics": m}
+                for s, f, t, m in zip(
+                    self.seeds, self.fitness, self.trained, self.metrics, strict=True
+                )
+            ],
+        }
+
+
+def evaluate_terrains(
+    path: str | os.PathLike,
+    seeds: list[int],
+    *,
+    scene: Scene | None = None,
+    backend: Backend | None = None,
+) -> TerrainEvaluation:
+    """Re-score run ``path``'s best genome on each terrain seed of ``seeds``
+    (of ``scene``'s kind and parameters, default the run's own scene): its
+    fitness and metrics there, and the generalisation gap to the training
+    fitness. Writes nothing."""
+    if backend is None:
+        backend = ThreadBackend()
+    cfg, beh, best = rundir.load_run(Path(path))
+    base = beh.terrains.scene if scene is None else scene
+    if base.with_seed(1) == base:
+        raise UserError(
+            f"--terrain-seeds: the {base.name} scene has one terrain "
+            "(e.g. --scene debris)"
+        )
+    trained = set(beh.terrains.scenes)
+    p = cfg.model
+    fits, marks, metrics = [], [], []
+    for s in seeds:
+        here = beh.on(base.with_seed(s))
+        fit, res = here.evaluate(
+            best.genome[None], p, backend=backend, engine=cfg.engine,
+            record=beh.eval_record, label=f"terrain {s}",
+        )  # fmt: skip
+        ref = here.reference(p, backend=backend, engine=cfg.engine)
+        m = (here.metrics(res, p, best.genome) if ref is None
+             else here.metrics(res, p, best.genome, ref))  # fmt: skip
+        fits.append(float(fit[0]))
+        marks.append(here.scene in trained)
+        metrics.append(m)
+    return TerrainEvaluation(
+        cfg.behaviour, base.name, list(seeds), fits, marks, metrics,
+        best.fitness, beh.terrains.aggregate,
+    )  # fmt: skip

@@ -4,7 +4,8 @@
 training run, or a rule-based run) with the engine and keeps every control
 step's ``qpos``; :func:`render_video` draws it offscreen with MuJoCo's renderer
 (cameras ``track`` and ``side`` of the MJCF) and encodes it with ``imageio``
-(extra ``locustjump[video]``); :func:`view` plays it in ``mujoco.viewer``.
+(extra ``locustjump[video]``); :func:`locustjump.present.viewer.view` plays
+it in ``mujoco.viewer``.
 
 Headless Linux renders with EGL (``MUJOCO_GL=egl``, Debian package
 ``libegl1``, the default here when no display is set) or OSMesa
@@ -13,11 +14,7 @@ Headless Linux renders with EGL (``MUJOCO_GL=egl``, Debian package
 
 from __future__ import annotations
 
-import contextlib
 import os
-import sys
-import threading
-import time
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
@@ -28,17 +25,18 @@ import numpy as np
 from PIL import Image, ImageDraw, ImageFont
 from tqdm import tqdm
 
-from locustjump import rundir
+from locustjump import opengl, rundir
 from locustjump.errors import UserError
-from locustjump.rundir.config import from_table
+from locustjump.rundir.config import from_table, terrains_from_table
 from locustjump.rundir.migrations import rules_summary
 from locustjump.sim import model as lm
 from locustjump.sim import names
 from locustjump.sim.controller import Controller
-from locustjump.sim.engine.episode import Episode
 from locustjump.sim.engine.rollout import DEFAULT_ENGINE, StartStates, rollout
 from locustjump.sim.model import CONTROL_DT
+from locustjump.sim.scene import Flat, Scene
 from locustjump.tasks.rules import RuleController
+from locustjump.tasks.starts import ready_state
 
 if TYPE_CHECKING:
     from locustjump.sim.engine.backends import Backend
@@ -66,6 +64,7 @@ class Playback:
       labels: a label per episode (e.g. the get-up start roll).
       captions: (k, T + 1) text per step (e.g. the active behaviour), or None.
       title: what it is.
+      scene: the world they ran in.
     """
 
     model_params: lm.LocustParams
@@ -73,16 +72,18 @@ class Playback:
     labels: list[str]
     captions: np.ndarray | None
     title: str
+    scene: Scene = Flat()
 
     @property
     def n_steps(self) -> int:
         return self.qpos.shape[1] - 1
 
 
-def _rules_run(path: Path) -> tuple[float, int, lm.LocustParams, str] | None:
-    """(change time, steps, creature, engine) of a rule-based run directory,
-    else None. Summaries written before the creature was recorded are of the
-    default one; before the engine was the run's, it was the creature's."""
+def _rules_run(path: Path) -> tuple[float, int, lm.LocustParams, str, Scene] | None:
+    """(change time, steps, creature, engine, scene) of a rule-based run
+    directory, else None. Summaries written before the creature was recorded
+    are of the default one; before the engine was the run's, it was the
+    creature's; before scenes, the flat floor."""
     if not rundir.is_rules_run(path):
         return None
     f = path / rundir.RULES_SUMMARY
@@ -90,7 +91,14 @@ def _rules_run(path: Path) -> tuple[float, int, lm.LocustParams, str] | None:
     try:
         p = from_table(lm.LocustParams, summary["model"], "model", str(f))
         steps = int(summary.get("steps", 3000))
-        return float(summary["change_time_s"]), steps, p, str(summary["engine"])
+        scene = terrains_from_table(summary.get("scene", {}), str(f)).scene
+        return (
+            float(summary["change_time_s"]),
+            steps,
+            p,
+            str(summary["engine"]),
+            scene,
+        )
     except (KeyError, TypeError, ValueError) as e:
         raise UserError(f"{f}: not a rule-based run summary ({e})") from None
 
@@ -108,12 +116,14 @@ class Source:
     labels: list[str]
     title: str
     memory_names: tuple[str, ...] | None = None  # memory[0] indexes these
+    scene: Scene = Flat()  # the world it runs in
 
 
-def source_of(path: str | os.PathLike) -> Source:
+def source_of(path: str | os.PathLike, scene: Scene | None = None) -> Source:
     """What directory ``path`` holds: a training run's best genome
     (``config.toml`` + ``best.npz``) or a rule-based run (``locustjump rules``
-    or a reproduction's ``rules/``: ``summary.json`` + ``trajectory.csv``)."""
+    or a reproduction's ``rules/``: ``summary.json`` + ``trajectory.csv``), in
+    its own scene (a run's first training terrain) or in ``scene``."""
     out = Path(path)
     if not out.is_dir():
         raise UserError(f"{out}: no such directory")
@@ -128,19 +138,23 @@ def source_of(path: str | os.PathLike) -> Source:
                 f"{out}: holds no run (no {rundir.CONFIG}) and no rule-based run "
                 f"(no {rundir.RULES_SUMMARY} + {rundir.TRAJECTORY_CSV})"
             )
-        change_time, steps, p, engine = rules
+        change_time, steps, p, engine, own = rules
+        scene = own if scene is None else scene
         rc = RuleController.for_model(p)
         return Source(
             p,
             engine,
             rc,
             rc.params_for(change_time),
-            StartStates.ready(lm.load_model(p)),
+            ready_state(p, scene),
             steps,
             ["rule-based"],
             f"rule-based, change time {change_time:.3f} s",
+            scene=scene,
         )
     cfg, beh, best = rundir.load_run(out)
+    if scene is not None:
+        beh = beh.on(scene)
     labels = beh.state_labels()
     return Source(
         cfg.model,
@@ -153,32 +167,47 @@ def source_of(path: str | os.PathLike) -> Source:
         f"{cfg.behaviour}, best of generation {best.generation}, "
         f"fitness {best.fitness:.4g}",
         beh.memory_labels,
+        beh.scene,
     )
 
 
-def playback_of(path: str | os.PathLike, *, backend: Backend | None = None) -> Playback:
-    """Re-simulate what directory ``path`` holds (:func:`source_of`) with the
-    engine, keeping every control step."""
-    src = source_of(path)
+def playback_of(
+    path: str | os.PathLike,
+    *,
+    backend: Backend | None = None,
+    scene: Scene | None = None,
+) -> Playback:
+    """Re-simulate what directory ``path`` holds (:func:`source_of`; in
+    ``scene`` if given) with the engine, keeping every control step."""
+    src = source_of(path, scene)
     record = ("qpos",) if src.memory_names is None else ("qpos", "memory")
     res = rollout(
-        src.controller,
-        src.params,
-        src.starts,
-        src.n_steps,
-        model_params=src.model_params,
-        record=record,
-        backend=backend,
+        src.controller, src.params, src.starts, src.n_steps,
+        model_params=src.model_params, record=record, backend=backend,
         engine=src.engine,
-    )
+        scene=src.scene,
+    )  # fmt: skip
     captions = None
     if src.memory_names is not None:
-        captions = np.array(src.memory_names)[res["memory"][:, :, 0].astype(int)]
-    return Playback(src.model_params, res["qpos"], src.labels, captions, src.title)
+        captions = np.array(src.memory_names)[acting(res["memory"][:, :, 0])]
+    return Playback(
+        src.model_params, res["qpos"], src.labels, captions, src.title, src.scene
+    )
+
+
+def acting(selected: np.ndarray) -> np.ndarray:
+    """(k, T + 1) index of the behaviour that acts from each recorded state
+    on, from the memory recorded after each step (``selected[:, t]``: chosen
+    for step t - 1; ``selected[:, 0]``, the initial memory, chose nothing).
+    The last state shows the last step's."""
+    idx = selected.astype(int)
+    return np.concatenate([idx[:, 1:], idx[:, -1:]], axis=1)
 
 
 def make_renderer(m: mujoco.MjModel, width: int, height: int) -> mujoco.Renderer:
     """An offscreen renderer, or :class:`RenderUnavailable` saying what is missing."""
+    if opengl.PROBLEM is not None:
+        raise RenderUnavailable(f"cannot render offscreen: {opengl.PROBLEM}")
     try:
         return mujoco.Renderer(m, height=height, width=width)
     except Exception as e:  # GL back ends fail in many ways (ImportError, ...)
@@ -223,7 +252,7 @@ def frames(
         raise UserError(f"fps must be in (0, {1 / CONTROL_DT:g}], got {fps:g}")
     k = pb.qpos.shape[0]
     width, height = size or ((640, 480) if k == 1 else TILE)
-    m = lm.load_model(pb.model_params)
+    m = lm.load_model(pb.model_params, pb.scene)
     d = mujoco.MjData(m)
     renderer = make_renderer(m, width, height)
     font = _font(max(12, height // 20))
@@ -275,7 +304,7 @@ def _writer(path: Path, fps: float):
         ) from None
     return iio.get_writer(
         path, fps=fps, codec="libx264", quality=7, macro_block_size=16,
-        ffmpeg_log_level="error",
+        ffmpeg_log_level="quiet",  # its errors end as ours
     )  # fmt: skip
 
 
@@ -295,12 +324,14 @@ def render_video(
     size = TILE if out.suffix.lower() == ".gif" else None
     it = frames(pb, fps=fps, camera=camera, size=size)
     first = next(it)  # fails early (renderer) before a file is opened
-    with rundir.atomic_path(out, partial=".partial") as tmp, _writer(tmp, fps) as w:
-        w.append_data(first)
-        for n, frame in enumerate(it, start=2):
-            w.append_data(frame)
-            if progress is not None:
-                progress(n)
+    with rundir.atomic_path(out, partial=".partial") as tmp:
+        open(tmp, "wb").close()  # an unwritable place is named here, not by ffmpeg
+        with _writer(tmp, fps) as w:
+            w.append_data(first)
+            for n, frame in enumerate(it, start=2):
+                w.append_data(frame)
+                if progress is not None:
+                    progress(n)
     return out
 
 
@@ -313,15 +344,23 @@ def render_run(
     force: bool = False,
     progress: bool = False,
     backend: Backend | None = None,
+    scene: Scene | None = None,
 ) -> Path:
-    """Video of what directory ``path`` holds (default ``path/video.mp4``)."""
-    out = Path(path) / rundir.VIDEO if out is None else Path(out)
+    """Video of what directory ``path`` holds (default ``path/video.mp4``; a
+    shipped run's under ``runs/shipped/``: :func:`locustjump.rundir.derived_dir`),
+    in its own scene or ``scene``."""
+    if out is None:
+        out = rundir.derived_dir(Path(path)) / rundir.VIDEO
+        if not Path(path).is_dir():
+            raise UserError(f"{path}: no such directory")
+        out.parent.mkdir(parents=True, exist_ok=True)
+    out = Path(out)
     check_video_path(out, force=force)
     if camera not in CAMERAS:
         raise UserError(f"unknown camera {camera!r}; one of {', '.join(CAMERAS)}")
-    pb = playback_of(path, backend=backend)
-    inside = Path(out).resolve().parent == Path(path).resolve()
-    with rundir.locked(path) if inside else contextlib.nullcontext():
+    with rundir.locked(out.parent):  # the directory written into
+        check_video_path(out, force=force)  # another process was first?
+        pb = playback_of(path, backend=backend, scene=scene)
         return _encode(pb, out, fps, camera, force, progress)
 
 
@@ -336,65 +375,3 @@ def _encode(
             pb, out, fps=fps, camera=camera, force=force,
             progress=lambda n: bar.update(n - bar.n),
         )  # fmt: skip
-
-
-def view(path: str | os.PathLike, *, duration: float | None = None) -> None:
-    """Play what ``path`` holds live in MuJoCo's interactive viewer: the
-    controller acts every 1/120 s of simulated time, in real time, looping over
-    the start states until the window is closed (or ``duration`` seconds have
-    passed). Drag the body with the mouse to perturb it."""
-    if sys.platform.startswith("linux") and not (
-        os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")
-    ):
-        raise UserError(
-            "no display (DISPLAY is not set): the viewer needs a desktop session; "
-            "use `locustjump render` to make a video instead"
-        )
-    src = source_of(path)
-    import mujoco.viewer
-
-    ep = Episode(src.model_params)
-    ep.reset(src.starts, 0)
-    before = set(threading.enumerate())
-    try:
-        handle = mujoco.viewer.launch_passive(ep.model, ep.data)
-    except Exception as e:
-        raise UserError(f"cannot open the MuJoCo viewer: {e}") from None
-    end = None if duration is None else time.perf_counter() + duration
-    try:
-        _play(handle, ep, src, end)
-    finally:
-        handle.close()
-        # let the viewer's thread tear its window down before the interpreter
-        # does (GLFW's atexit terminate racing it crashes or hangs)
-        for th in set(threading.enumerate()) - before:
-            th.join(timeout=10)
-
-
-def _play(handle, ep: Episode, src: Source, end: float | None) -> None:
-    ctl = src.controller
-    prepared = ctl.prepare(src.params)
-    with handle as v:
-        with v.lock():  # follow the body, from the side, 3 body lengths away
-            v.cam.type = mujoco.mjtCamera.mjCAMERA_TRACKING
-            v.cam.trackbodyid = ep.model.body(names.BODY).id
-            v.cam.distance = 3 * src.model_params.body_length
-            v.cam.azimuth, v.cam.elevation = 90.0, -10.0
-        while v.is_running():
-            for e in range(len(src.starts)):
-                with v.lock():
-                    obs = ep.reset(src.starts, e)
-                memory = np.zeros((1, ctl.memory_size))
-                for t in range(src.n_steps):
-                    start = time.perf_counter()
-                    if not v.is_running() or (end is not None and start > end):
-                        return
-                    deltas, memory = ctl.act(
-                        prepared, memory, obs, ep.data.ctrl[None], t
-                    )
-                    with v.lock():
-                        obs = ep.step(deltas)
-                    v.sync()
-                    if ep.unstable:
-                        break
-                    time.sleep(max(0.0, CONTROL_DT - (time.perf_counter() - start)))

@@ -12,13 +12,14 @@ paper) and a section per stage.
 from __future__ import annotations
 
 import base64
-import csv
 import html
-import json
 import os
-import re
+import tempfile
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
+
+from markdown_it import MarkdownIt
+from markdown_it.token import Token
 
 from locustjump import rundir
 from locustjump.errors import UserError
@@ -68,85 +69,96 @@ def _figure(path: Path, caption: str = "") -> str:
     return f"<figure>{media}{cap}</figure>"
 
 
-def _inline(text: str) -> str:
-    """`code`, **bold** and [links](to) of one line of Markdown, HTML-escaped;
-    a link to a ``results.md`` goes to the ``report.html`` beside it."""
-    out = html.escape(text, quote=False)
-    out = re.sub(r"`([^`]+)`", r"<code>\1</code>", out)
-    out = re.sub(
-        r"\[([^\]]+)\]\(([^)\s]+)\)",
-        lambda m: f'<a href="{html.escape(_html_twin(m.group(2)))}">{m.group(1)}</a>',
-        out,
-    )
-    return re.sub(r"\*\*([^*]+)\*\*", r"<strong>\1</strong>", out)
+#: CommonMark with pipe tables (what results.md is written in); raw HTML in
+#: the Markdown is escaped, not passed through
+_MARKDOWN = MarkdownIt("commonmark", {"html": False}).enable("table")
 
 
 def _html_twin(href: str) -> str:
+    """A link to a ``results.md`` goes to the ``report.html`` beside it."""
     if href.endswith(rundir.RESULTS):
         return href[: -len(rundir.RESULTS)] + rundir.REPORT
     return href
 
 
+def _embed(token: Token, base: Path) -> None:
+    """Make an image token of the Markdown self-contained: a figure relative
+    to ``base`` becomes a data URI (a video, a <video>), a missing one text."""
+    src = token.attrGet("src") or ""
+    path = base / src
+    alt = token.content
+    if not (path.is_file() and path.suffix.lower() in _MIME):
+        token.type, token.content, token.children = (
+            "text",
+            f"(missing figure {src})",
+            None,
+        )
+    elif path.suffix.lower() == ".mp4":
+        token.type, token.content, token.children = (
+            "html_inline",
+            _figure(path, alt),
+            None,
+        )
+    else:
+        token.attrSet("src", _data_uri(path))
+
+
 def markdown_to_html(text: str, base: Path) -> str:
-    """The Markdown subset that :func:`locustjump.runs.reproduce.results_markdown`
-    writes (headings, paragraphs, pipe tables, images), images embedded from
-    paths relative to ``base``."""
-    out: list[str] = []
-    lines = text.splitlines()
-    i = 0
-    while i < len(lines):
-        line = lines[i].rstrip()
-        if not line:
-            i += 1
-        elif m := re.fullmatch(r"(#{1,6}) (.*)", line):
-            n = len(m.group(1))
-            out.append(f"<h{n}>{_inline(m.group(2))}</h{n}>")
-            i += 1
-        elif m := re.fullmatch(r"!\[([^\]]*)\]\(([^)]+)\)", line):
-            path = base / m.group(2)
-            if path.is_file() and path.suffix.lower() in _MIME:
-                out.append(_figure(path, m.group(1)))
-            else:
-                out.append(f"<p>(missing figure {html.escape(m.group(2))})</p>")
-            i += 1
-        elif line.startswith("|"):
-            rows = []
-            while i < len(lines) and lines[i].startswith("|"):
-                cells = [c.strip() for c in lines[i].strip().strip("|").split("|")]
-                if not all(re.fullmatch(r":?-+:?", c) for c in cells):
-                    rows.append(cells)
-                i += 1
-            head, *body = rows
-            out.append("<table><thead><tr>")
-            out += [f"<th>{_inline(c)}</th>" for c in head]
-            out.append("</tr></thead><tbody>")
-            for r in body:
-                out.append("<tr>" + "".join(f"<td>{_inline(c)}</td>" for c in r))
-                out.append("</tr>")
-            out.append("</tbody></table>")
-        else:
-            para = []
-            while (
-                i < len(lines)
-                and lines[i].strip()
-                and not re.match(r"(#{1,6} |!\[|\|)", lines[i])
-            ):
-                para.append(lines[i].strip())
-                i += 1
-            out.append(f"<p>{_inline(' '.join(para))}</p>")
-    return "\n".join(out)
+    """Markdown (CommonMark + pipe tables, by markdown-it-py) as HTML, images
+    embedded from paths relative to ``base``, links to a ``results.md`` sent
+    to the ``report.html`` beside it."""
+    tokens = _MARKDOWN.parse(text)
+    for block in tokens:
+        for token in block.children or ():
+            if token.type == "image":
+                _embed(token, base)
+            elif token.type == "link_open":
+                token.attrSet("href", _html_twin(token.attrGet("href") or ""))
+    return _MARKDOWN.renderer.render(tokens, _MARKDOWN.options, {})
+
+
+def _cell(v: Any) -> str:
+    """One value of a table as HTML: a table of a table, a list as its items."""
+    if isinstance(v, dict):
+        return _table(v)
+    if isinstance(v, list | tuple):
+        return html.escape(", ".join(_text(x) for x in v))
+    return html.escape(_text(v))
+
+
+def _text(v: Any) -> str:
+    if isinstance(v, float):
+        return f"{v:.6g}"
+    if isinstance(v, dict):
+        return ", ".join(f"{k} {_text(x)}" for k, x in v.items())
+    return str(v)
+
+
+#: unit suffixes of metric names, as a reader writes them
+_UNITS = (("_m_s", "m/s"), ("_deg", "deg"), ("_m", "m"), ("_s", "s"))
+
+
+def _readable(key: str) -> str:
+    """A metric's name as words with its unit: ``takeoff_speed_m_s`` ->
+    ``takeoff speed (m/s)``."""
+    for suffix, unit in _UNITS:
+        if key.endswith(suffix) and len(key) > len(suffix):
+            return f"{key[: -len(suffix)].replace('_', ' ')} ({unit})"
+    return key.replace("_", " ")
+
+
+def _metrics_table(metrics: dict[str, Any]) -> str:
+    """The behaviour metrics, named in words (a nested table keeps its keys:
+    joint names, behaviour names)."""
+    return _table({_readable(k): v for k, v in metrics.items()})
 
 
 def _table(d: dict[str, Any]) -> str:
-    rows = []
-    for k, v in d.items():
-        if isinstance(v, float):
-            text = f"{v:.6g}"
-        elif isinstance(v, dict | list):
-            text = json.dumps(v)
-        else:
-            text = str(v)
-        rows.append(f"<tr><th>{html.escape(k)}</th><td>{html.escape(text)}</td></tr>")
+    """A two-column table, key and value; a value that is a table nests."""
+    rows = [
+        f"<tr><th>{html.escape(str(k))}</th><td>{_cell(v)}</td></tr>"
+        for k, v in d.items()
+    ]
     return "<table>" + "".join(rows) + "</table>"
 
 
@@ -154,45 +166,51 @@ def _videos(d: Path) -> list[Path]:
     return sorted(p for p in d.glob("*") if p.suffix.lower() in (".mp4", ".gif"))
 
 
-def _figures(d: Path) -> list[Path]:
+def _figures(d: Path, eval_dir: Path | None = None) -> list[Path]:
     found = []
-    for sub in (rundir.EVAL, rundir.SWEEP):
-        if (d / sub).is_dir():
-            found += sorted((d / sub).glob("*.png"))
+    for sub in (eval_dir or d / rundir.EVAL, d / rundir.SWEEP):
+        if sub.is_dir():
+            found += sorted(sub.glob("*.png"))
     return found
 
 
-def _run_section(d: Path, metrics: dict[str, Any] | None, level: int = 2) -> str:
-    """The part of the page about training run ``d``."""
+def _run_section(
+    d: Path,
+    metrics: dict[str, Any] | None,
+    level: int = 2,
+    eval_dir: Path | None = None,
+) -> str:
+    """The part of the page about training run ``d`` (its evaluation's
+    figures from ``eval_dir``, default ``d/eval``)."""
     h = f"h{level}"
     parts = [f"<{h}>Configuration</{h}>"]
-    parts.append(f"<pre>{html.escape((d / rundir.CONFIG).read_text())}</pre>")
-    if (d / rundir.METRICS).is_file():
-        with open(d / rundir.METRICS, newline="") as f:
-            rows = list(csv.DictReader(f))
-        if rows:
-            last = rows[-1]
-            parts.append(f"<{h}>Training</{h}>")
-            parts.append(
-                _table(
-                    {
-                        "generations": int(last["generation"]),
-                        "best fitness (last generation)": float(last["best"]),
-                        "population mean (last generation)": float(last["mean"]),
-                        "wall time (s)": round(
-                            sum(float(r["wall_s"]) for r in rows), 1
-                        ),
-                        "control steps/s (last generation)": float(last["steps_per_s"]),
-                    }
-                )
+    parts.append(
+        f"<p>{html.escape(rundir.CONFIG)}: every setting of the run "
+        "(a table per section)</p>"
+    )
+    parts.append(_table(rundir.read_toml(d / rundir.CONFIG)))
+    rows = rundir.read_metrics(d / rundir.METRICS)
+    if len(rows):
+        last = rows[-1]
+        parts.append(f"<{h}>Training</{h}>")
+        parts.append(
+            _table(
+                {
+                    "generations": int(last["generation"]),
+                    "best fitness (last generation)": float(last["best"]),
+                    "population mean (last generation)": float(last["mean"]),
+                    "wall time (s)": round(float(rows["wall_s"].sum()), 1),
+                    "control steps/s (last generation)": float(last["steps_per_s"]),
+                }
             )
+        )
     fit = d / rundir.FITNESS_PNG
     if fit.is_file():
         parts.append(_figure(fit, "best and mean fitness per generation"))
     if metrics is not None:
         parts.append(f"<{h}>Best controller</{h}>")
-        parts.append(_table(metrics))
-    figs = _figures(d)
+        parts.append(_metrics_table(metrics))
+    figs = _figures(d, eval_dir)
     if figs:
         parts.append(f"<{h}>Figures</{h}>")
         parts += [_figure(f, f.name) for f in figs]
@@ -223,22 +241,39 @@ Self-contained: no network needed.</footer>
 """
 
 
-def write_report(path: str | os.PathLike, *, backend: Backend | None = None) -> Path:
-    """Write ``path/report.html`` for a training run or a reproduction
-    (rewritten on every call: it holds derived content only)."""
+def write_report(
+    path: str | os.PathLike,
+    *,
+    backend: Backend | None = None,
+    out: str | os.PathLike | None = None,
+) -> Path:
+    """Write the report of a training run or a reproduction ``path`` into
+    ``out``, by default ``path/report.html`` (for a shipped run under
+    ``results/``: ``runs/shipped/<same path>/report.html``,
+    :func:`locustjump.rundir.derived_dir`); rewritten on every call, it holds
+    derived content only. Nothing else is written: a training run's best
+    genome is re-simulated into a temporary directory, its figures embedded."""
 
     d = Path(path)
     if not d.is_dir():
         raise UserError(f"{d}: no such directory")
+    page = Path(out) if out is not None else rundir.derived_dir(d) / rundir.REPORT
+    if page.resolve().parent != d.resolve():  # a shipped run is not written
+        return _write_report(d, backend, page)
+    with rundir.locked(d):  # from the first file read to report.html
+        return _write_report(d, backend, page)
+
+
+def _write_report(d: Path, backend: Backend | None, page: Path) -> Path:
     if rundir.is_multiseed(d):
         if not (d / rundir.RESULTS).is_file():
             raise UserError(f"{d}: the reproduction has no {rundir.RESULTS} yet")
-        body = [markdown_to_html((d / rundir.RESULTS).read_text(), d)]
+        body = [markdown_to_html(rundir.read_text(d / rundir.RESULTS), d)]
         title = f"locustjump reproduction over seeds: {d.name}"
     elif rundir.is_reproduction(d):
         if not (d / rundir.RESULTS).is_file():
             raise UserError(f"{d}: the reproduction has no {rundir.RESULTS} yet")
-        body = [markdown_to_html((d / rundir.RESULTS).read_text(), d)]
+        body = [markdown_to_html(rundir.read_text(d / rundir.RESULTS), d)]
         for stage in sorted(p for p in d.iterdir() if rundir.is_run(p)):
             mfile = rundir.eval_metrics_path(stage)
             metrics = rundir.read_json(mfile) if mfile.is_file() else None
@@ -251,20 +286,21 @@ def write_report(path: str | os.PathLike, *, backend: Backend | None = None) -> 
             body += [_figure(v, v.name) for v in rules_videos]
         title = f"locustjump reproduction: {d.name}"
     elif rundir.is_run(d):
-        ev = evaluate_run(d, backend=backend)
-        metrics = {
-            "re-simulated fitness": ev.fitness,
-            "recorded fitness": ev.recorded_fitness,
-            "matches": ev.matches,
-            **ev.metrics,
-        }
-        body = [_run_section(d, metrics)]
+        rundir.read_metrics(d / rundir.METRICS)  # checked before anything runs
+        with tempfile.TemporaryDirectory(prefix="locustjump-report-") as tmp:
+            ev = evaluate_run(d, backend=backend, eval_dir=tmp)
+            metrics = {
+                "re-simulated fitness": ev.fitness,
+                "recorded fitness": ev.recorded_fitness,
+                "matches": ev.matches,
+                **ev.metrics,
+            }
+            body = [_run_section(d, metrics, eval_dir=Path(tmp))]
         title = f"locustjump run: {d.name} ({ev.behaviour})"
     else:
         raise UserError(f"{d}: holds no run (no {rundir.CONFIG}) and no reproduction")
-    out = d / rundir.REPORT
     # a reproduction's results.md brings its own heading
     heading = not (rundir.is_reproduction(d) or rundir.is_multiseed(d))
-    with rundir.locked(d):
-        rundir.atomic_write_text(out, _page(title, "\n".join(body), heading=heading))
-    return out
+    page.parent.mkdir(parents=True, exist_ok=True)
+    rundir.atomic_write_text(page, _page(title, "\n".join(body), heading=heading))
+    return page

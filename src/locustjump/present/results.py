@@ -172,12 +172,23 @@ def _budget_table(
     ]
 
 
-def _whys(failed: list[Claim]) -> list[str]:
-    """What a study measured about why these claims fail, once per claim."""
-    whys = dict.fromkeys(f"- {c.text}: {c.why}." for c in failed if c.why)
+def _whys(failed: list[Claim], *, this_run: bool = True) -> list[str]:
+    """Why these claims fail, once per claim: this run's own reason (where
+    ``this_run``) and what a study measured beyond it."""
+    whys = {}
+    for c in failed:
+        parts = [f"this run: {c.reason}" if this_run and c.reason else ""]
+        parts.append(f"beyond this run: {c.why}" if c.why else "")
+        if any(parts):
+            whys[c.text] = "; ".join(p for p in parts if p)
     if not whys:
         return []
-    return ["Why the failing claims fail (measured beyond this run):", "", *whys, ""]
+    return [
+        "Why the failing claims fail:",
+        "",
+        *(f"- **{text}**: {why}." for text, why in whys.items()),
+        "",
+    ]
 
 
 def _num(x: float) -> str:
@@ -237,6 +248,7 @@ def seeds_markdown(out: Path) -> str:
             beh.claims(info[seed][s]["record"]) for seed in seeds if s in info[seed]
         ]
         failed += [c for claims in runs for c in claims if c.ok is False]
+        # across seeds, each seed's own reason is in its results.md
         for i, claim in enumerate(beh.claims(None)):
             got = [c[i] for c in runs]
             values = [c.value for c in got if c.value is not None]
@@ -248,7 +260,7 @@ def seeds_markdown(out: Path) -> str:
                 f"| {claim.text} | {claim.paper} | {_spread(values)} | {measure} | "
                 f"{count} |"
             )
-    lines += ["", *_whys(failed)]
+    lines += ["", *_whys(failed, this_run=False)]
     lines += [
         "## Best fitness per stage",
         "",

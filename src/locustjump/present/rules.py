@@ -11,9 +11,11 @@ from typing import TYPE_CHECKING
 
 from locustjump import rundir
 from locustjump.present.plots import trajectory_figure
+from locustjump.rundir.config import scene_table
 from locustjump.sim import model as lm
 from locustjump.sim.engine.job import DEFAULT_ENGINE
-from locustjump.tasks.reference import RulesRun, run_rules
+from locustjump.sim.scene import Flat, Scene, Terrains
+from locustjump.tasks.reference import RulesRun, rules_outcome, run_rules
 from locustjump.tasks.rules import DEFAULT_CHANGE_TIME
 
 if TYPE_CHECKING:
@@ -28,14 +30,16 @@ def write_rules_run(
     model_params: lm.LocustParams = lm.LocustParams(),
     backend: Backend | None = None,
     engine: str = DEFAULT_ENGINE,
+    scene: Scene = Flat(),
 ) -> RulesRun:
     """Run the rules and write a rule-based run directory ``out`` (created if
     absent): ``trajectory.csv``, ``trajectory.png`` and ``summary.json``, which
-    records the creature and the engine so that a video re-simulates the same
-    episode."""
+    records the creature, the scene and the engine so that a video
+    re-simulates the same episode, and how far the rules got
+    (:func:`rules_outcome`)."""
     run = run_rules(
         change_time, steps, model_params=model_params, backend=backend,
-        label="rules", engine=engine,
+        label="rules", engine=engine, scene=scene,
     )  # fmt: skip
     out.mkdir(parents=True, exist_ok=True)
     rundir.write_trajectory_csv(
@@ -55,11 +59,12 @@ def write_rules_run(
         {
             "change_time_s": run.change_time,
             "steps": steps,
-            "jumps": len(run.jumps),
             "apex_heights_m": [round(j.apex_height, 4) for j in run.jumps],
             "unstable": run.unstable,
             "engine": engine,
             "model": model,
+            "scene": scene_table(Terrains(scene)),
+            **rules_outcome(run, model_params),
         },
     )
     return run

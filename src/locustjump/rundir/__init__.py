@@ -28,25 +28,26 @@ writes alone.
 
 Every file is written atomically (temporary file, fsync, rename), so a crash
 leaves the previous complete version, and read without pickle (TOML, JSON,
-CSV, ``.npz`` with ``allow_pickle=False``).
+CSV, ``.npz`` with ``allow_pickle=False``), bounded in size before it is
+parsed (:mod:`.reads`) and checked before anything is written: arrays
+(:mod:`.arrays`), ``metrics.csv`` (:mod:`.metrics`), the checkpoint
+(:mod:`.checkpoint`). A command writes a directory holding its lock
+(:mod:`.lock`, :mod:`.outputs`).
 """
 
+from locustjump.rundir.checkpoint import read_checkpoint, write_checkpoint
 from locustjump.rundir.files import (
     append_line,
     atomic_path,
     atomic_write_bytes,
     atomic_write_text,
-    check_out_dir,
-    load_npz,
-    prepare_out_file,
-    read_json,
-    read_toml,
     save_npz,
     write_json,
     write_toml,
 )
 from locustjump.rundir.layout import *  # noqa: F403
 from locustjump.rundir.layout import (
+    derived_dir,
     eval_metrics_path,
     is_multiseed,
     is_reproduction,
@@ -55,19 +56,28 @@ from locustjump.rundir.layout import (
     seed_dir,
 )
 from locustjump.rundir.lock import locked
+from locustjump.rundir.metrics import (
+    generations_done,
+    metrics_extra_columns,
+    metrics_line,
+    read_metrics,
+    truncate_metrics,
+)
+from locustjump.rundir.outputs import (
+    check_out_dir,
+    make_dir,
+    output_dir,
+    output_file,
+    prepare_out_file,
+    remove_made,
+)
+from locustjump.rundir.reads import load_npz, read_json, read_text, read_toml
 from locustjump.rundir.run import (
     BestGenome,
     FrozenGenomes,
     behaviour_of,
-    generations_done,
     load_config,
     load_run,
-    metrics_extra_columns,
-    metrics_line,
-    read_checkpoint,
-    read_metrics,
-    truncate_metrics,
-    write_checkpoint,
     write_config,
 )
 from locustjump.rundir.trajectory import (

@@ -15,6 +15,12 @@
     [model]              # LocustParams: the creature and its physics
     scale = 1.0
 
+    [scene]              # the world (locustjump.sim.scene): its kind, its
+    kind = "debris"      # parameters, and the training terrains: seeds
+    seed = 0             # seed .. seed + terrains - 1, fitness combined by
+    terrains = 4         # aggregate ("mean" or "min"); default: the flat floor
+    aggregate = "mean"
+
 Older spellings (``[rcga]``, ``model.engine``, ``simple``) are read by
 :mod:`locustjump.rundir.migrations` and hash as they did, so older runs stay
 valid. Files are read and written by :mod:`locustjump.rundir`.
@@ -33,6 +39,7 @@ from locustjump.evo import RCGAParams, params_class
 from locustjump.rundir.migrations import CONFIG_FORMAT, hashed_config, migrate_config
 from locustjump.sim import model as lm
 from locustjump.sim.engine.job import DEFAULT_ENGINE, ENGINES
+from locustjump.sim.scene import DEFAULT_SCENE, Terrains, scene_class
 from locustjump.tasks import behaviour_class, behaviour_names
 from locustjump.tasks.base import CommonOptions
 
@@ -56,6 +63,8 @@ class TrainConfig:
     #: the behaviour's settings beyond the paper (its ``Options``; default: its
     #: defaults, the paper's)
     options: Any = None
+    #: the world and the terrains a genome is scored on (default: the flat floor)
+    scene: Terrains = field(default_factory=Terrains)
 
     def __post_init__(self) -> None:
         if self.behaviour not in behaviour_names():
@@ -67,6 +76,9 @@ class TrainConfig:
             raise ValueError(f"generations must be >= 1, got {self.generations}")
         if self.seed < 0:
             raise ValueError(f"seed must be >= 0, got {self.seed}")
+        for name in ("seed", "generations"):  # config.toml holds 64-bit integers
+            if getattr(self, name) >= 2**63:
+                raise ValueError(f"{name} must be < 2**63, got {getattr(self, name)}")
         if self.engine not in ENGINES:
             raise ValueError(
                 f"engine must be one of {', '.join(ENGINES)}, got {self.engine!r}"
@@ -103,6 +115,7 @@ class TrainConfig:
             d["frozen_digest"] = self.frozen_digest
         if dataclasses.fields(self.options):
             d["options"] = _table(self.options)
+        d["scene"] = scene_table(self.scene)
         return d
 
     def hash(self) -> str:
@@ -112,6 +125,8 @@ class TrainConfig:
         made before keep their hash."""
         d = self.to_dict()
         del d["generations"], d["format"]
+        if self.scene == Terrains():  # runs made before scenes keep their hash
+            del d["scene"]
         d = hashed_config(
             d,
             _table(lm.LocustParams()),
@@ -138,6 +153,8 @@ class TrainConfig:
                 kwargs[key] = from_table(lm.LocustParams, value, key, source)
             elif key == "options":
                 options = value
+            elif key == "scene":
+                kwargs[key] = terrains_from_table(value, source)
             else:
                 raise UserError(f"{source}: unknown key {key!r}")
         if options is not None:  # the behaviour's own settings
@@ -152,6 +169,39 @@ class TrainConfig:
             return cls(**kwargs)
         except ValueError as e:
             raise UserError(f"{source}: {e}") from None
+
+
+def scene_table(t: Terrains) -> dict[str, Any]:
+    """``[scene]`` as written: ``kind``, the scene's fields, ``terrains`` and
+    ``aggregate``."""
+    return {
+        "kind": t.scene.name,
+        **_table(t.scene),
+        "terrains": t.count,
+        "aggregate": t.aggregate,
+    }
+
+
+def terrains_from_table(table: Any, source: str) -> Terrains:
+    """A ``[scene]`` table (every key checked) as the training terrains."""
+    if not isinstance(table, dict):
+        raise UserError(f"{source}: scene must be a table")
+    table = dict(table)
+    kind = table.pop("kind", DEFAULT_SCENE)
+    if not isinstance(kind, str):
+        raise UserError(f"{source}: scene.kind must be a string, got {kind!r}")
+    try:
+        cls = scene_class(kind)
+    except ValueError as e:
+        raise UserError(f"{source}: scene.kind: {e}") from None
+    top = {"terrains": 1, "aggregate": "mean"}
+    extra = {k: coerce(table.pop(k), v, f"scene.{k}", source)
+             for k, v in top.items() if k in table}  # fmt: skip
+    scene = from_table(cls, table, "scene", source)
+    try:
+        return Terrains(scene, extra.get("terrains", 1), extra.get("aggregate", "mean"))
+    except ValueError as e:
+        raise UserError(f"{source}: [scene] {e}") from None
 
 
 def _table(obj: Any) -> dict[str, Any]:
@@ -184,6 +234,10 @@ def coerce(value: Any, default: Any, key: str, source: str) -> Any:
         ok = isinstance(value, bool)
     elif isinstance(default, int):
         ok = isinstance(value, int) and not isinstance(value, bool)
+        if ok and not -(2**63) <= value < 2**63:
+            raise UserError(
+                f"{source}: {key} must be a 64-bit integer (TOML's), got {value}"
+            )
     elif isinstance(default, float):
         ok = isinstance(value, (int, float)) and not isinstance(value, bool)
         value = float(value) if ok else value

@@ -45,6 +45,23 @@ def is_run(d: Path) -> bool:
     return (Path(d) / CONFIG).is_file()
 
 
+#: what a new run writes before its config.toml, and their temporary files
+_BEFORE_CONFIG = (FROZEN, CONFIG, METRICS)
+
+
+def is_unstarted(d: Path) -> bool:
+    """Whether directory ``d`` holds no run but what a new run writes before
+    its ``config.toml`` (a run stopped then: it can be started again)."""
+    d = Path(d)
+    if is_run(d):
+        return False
+    leftovers = {FROZEN}
+    for name in _BEFORE_CONFIG:
+        stem, dot, suffix = name.partition(".")
+        leftovers.add(f".{stem}.tmp{dot}{suffix}")
+    return all(p.name in leftovers for p in d.iterdir())
+
+
 def is_reproduction(d: Path) -> bool:
     return (Path(d) / MARKER).is_file()
 
@@ -65,3 +82,22 @@ def is_rules_run(d: Path) -> bool:
 
 def eval_metrics_path(run: Path) -> Path:
     return Path(run) / EVAL / EVAL_METRICS
+
+
+#: The shipped runs: the repository's ``results/``, tracked in git. What the
+#: reading commands (evaluate, sweep-getup, report) derive from a run inside
+#: it goes to the same path under :data:`SHIPPED_DERIVED` instead (ignored by
+#: git, as ``runs/`` is), so that a checkout stays clean.
+SHIPPED = Path(__file__).resolve().parents[3] / "results"
+SHIPPED_DERIVED = SHIPPED.parent / "runs" / "shipped"
+
+
+def derived_dir(d: Path) -> Path:
+    """Where evaluate, sweep-getup and report write what they derive from
+    directory ``d`` when not told where: ``d`` itself, or for a shipped run
+    (inside :data:`SHIPPED`) the same path under :data:`SHIPPED_DERIVED`."""
+    try:
+        inside = Path(d).resolve().relative_to(SHIPPED.resolve())
+    except ValueError:
+        return Path(d)
+    return SHIPPED_DERIVED / inside

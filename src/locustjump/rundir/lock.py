@@ -57,7 +57,10 @@ def locked(directory: str | os.PathLike) -> Iterator[None]:
             if not _held[key]:
                 del _held[key]
         return
-    fd = os.open(d, os.O_RDONLY)
+    try:
+        fd = os.open(d, os.O_RDONLY | os.O_DIRECTORY)
+    except OSError as e:
+        raise UserError(f"{d}: cannot be locked ({e.strerror or e})") from None
     try:
         try:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
@@ -67,6 +70,8 @@ def locked(directory: str | os.PathLike) -> Iterator[None]:
             raise UserError(
                 f"{d} is in use by {who} (one writer at a time; wait for it or stop it)"
             ) from None
+        except OSError as e:  # a file system without locks
+            raise UserError(f"{d}: cannot be locked ({e.strerror or e})") from None
         _held[key] = 1
         try:
             yield

@@ -49,7 +49,11 @@ FROZEN_BEFORE = "simple.npz"
 #: the engine of a run whose config names none (made before the compiled one)
 ENGINE_BEFORE = "numpy"
 #: ``reproduce.toml`` keys added later, and what their absence means
-MARKER_BEFORE = {"optimizer": "rcga", "engine": ENGINE_BEFORE}
+MARKER_BEFORE = {
+    "optimizer": "rcga",
+    "engine": ENGINE_BEFORE,
+    "scene": {"kind": "flat", "terrains": 1, "aggregate": "mean"},  # the floor
+}
 #: keys of the optimizer's state in a checkpoint, prefixed so they never clash
 #: with the run's
 STATE_PREFIX = "opt_"

@@ -42,6 +42,7 @@ from locustjump.runs.reproduce import finish_reproduction, reproduce
 from locustjump.runs.reproduction import Budget, Reproduction, requires, stages_of
 from locustjump.sim.engine.backends import ThreadBackend
 from locustjump.sim.engine.ray_backend import connect
+from locustjump.sim.scene import Terrains
 
 if TYPE_CHECKING:
     from locustjump.sim.engine.backends import Backend
@@ -91,6 +92,7 @@ def reproduce_seeds(
     command: str = "",
     videos: bool = True,
     monolithic: bool = True,
+    terrains: Terrains | None = None,
 ) -> Path:
     """Run (or continue) the whole paper for every seed in ``seeds`` into
     ``out/seed-<s>/``; write ``out/results.md`` across seeds (also after every
@@ -99,12 +101,14 @@ def reproduce_seeds(
     ``backend`` is ``"threads"`` (here, seed after seed, ``threads`` threads)
     or ``"ray"`` (every stage a task on the cluster at ``address``, default a
     local instance, ``threads`` CPUs each). ``engine``: as for
-    :func:`~locustjump.runs.reproduce.reproduce`. A rerun may add seeds."""
+    :func:`~locustjump.runs.reproduce.reproduce`, and ``terrains``. A rerun
+    may add seeds."""
     if backend not in ("threads", "ray"):
         raise UserError(f"unknown backend {backend!r}; choose from threads, ray")
     rep = Reproduction.open(
-        out, budget, seeds, optimizer=optimizer, engine=engine, many=True
-    )
+        out, budget, seeds, optimizer=optimizer, engine=engine, many=True,
+        terrains=terrains,
+    )  # fmt: skip
     ray = None
     if backend == "ray":
         ray = connect(address)
@@ -126,7 +130,7 @@ def reproduce_seeds(
                     rep.seed_dir(s), budget=rep.budget, seed=s,
                     optimizer=rep.optimizer, engine=rep.engine, backend=here,
                     progress=progress, log=lambda m, s=s: log(f"[seed {s}] {m}"),
-                    videos=videos, monolithic=monolithic,
+                    videos=videos, monolithic=monolithic, terrains=rep.terrains,
                 )  # fmt: skip
                 _write_results(rep.out, here)
         else:
@@ -227,5 +231,5 @@ def _write_results(out: Path, backend: Backend) -> Path:
 
     path = out / rundir.RESULTS
     rundir.atomic_write_text(path, seeds_markdown(out))
-    write_report(out, backend=backend)
+    write_report(out, backend=backend, out=out / rundir.REPORT)
     return path

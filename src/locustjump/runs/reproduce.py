@@ -40,6 +40,7 @@ from locustjump.runs.reproduction import (
     stages_of,
 )
 from locustjump.sim.engine.backends import ThreadBackend
+from locustjump.sim.scene import Scene, Terrains
 
 if TYPE_CHECKING:
     from locustjump.sim.engine.backends import Backend
@@ -74,6 +75,7 @@ def reproduce(
     command: str = "",
     videos: bool = True,
     monolithic: bool = True,
+    terrains: Terrains | None = None,
 ) -> Path:
     """Run (or continue) every stage of the paper into ``out``; write
     ``results.md``, a video per stage (``videos``, when rendering is
@@ -85,9 +87,13 @@ def reproduce(
     paper's budget); a later call with it continues and adds it. ``optimizer``
     (a kind of :mod:`locustjump.evo`) trains every stage; ``engine``
     (:data:`~locustjump.sim.engine.job.ENGINES`; default: the one ``out`` was
-    started with, else the default) computes every stage's controllers. Several seeds
-    at once, on a cluster too: :func:`locustjump.runs.multiseed.reproduce_seeds`."""
-    rep = Reproduction.open(out, budget, (seed,), optimizer=optimizer, engine=engine)
+    started with, else the default) computes every stage's controllers;
+    ``terrains`` (default: the ones ``out`` was started with, else the flat
+    floor) is where every stage trains. Several seeds at once, on a cluster
+    too: :func:`locustjump.runs.multiseed.reproduce_seeds`."""
+    rep = Reproduction.open(
+        out, budget, (seed,), optimizer=optimizer, engine=engine, terrains=terrains
+    )
     if backend is None:
         backend = ThreadBackend()
     rep.out.mkdir(parents=True, exist_ok=True)
@@ -118,7 +124,7 @@ def finish_reproduction(
         render_videos(out, backend=backend, log=log)
     rundir.atomic_write_text(path, results_markdown(out))
     log(f"wrote {path}")
-    log(f"wrote {write_report(out)}")
+    log(f"wrote {write_report(out, out=out / rundir.REPORT)}")
     return path
 
 
@@ -137,7 +143,7 @@ def render_videos(
         if not d.is_dir() or (d / rundir.VIDEO).is_file():
             continue
         try:
-            made.append(render_run(d, fps=fps, backend=backend))
+            made.append(render_run(d, d / rundir.VIDEO, fps=fps, backend=backend))
         except RenderUnavailable as e:
             log(f"videos skipped: {e}")
             break
@@ -151,17 +157,20 @@ def replay(
     *,
     backend: Backend | None = None,
     force: bool = False,
+    scene: Scene | None = None,
 ) -> list[tuple[str, Evaluation]]:
     """Re-simulate the best genome of every stage of reproduction ``src``; write
     the figures and trajectories into ``out/<stage>/`` (``src`` is not
-    touched). Returns (stage, evaluation) per stage found."""
+    touched), each in its own scene or in ``scene``. Returns (stage,
+    evaluation) per stage found."""
     src = Path(src)
     if not rundir.is_reproduction(src):
         raise UserError(f"{src}: not a reproduction directory (no {rundir.MARKER})")
     found = [s for s in TRAINED if (src / s / rundir.BEST).is_file()]
     if not found:
         raise UserError(f"{src}: holds no trained stage yet")
-    dest = rundir.check_out_dir(out, force=force)  # made as it is written
-    return [
-        (s, evaluate_run(src / s, backend=backend, eval_dir=dest / s)) for s in found
-    ]
+    with rundir.output_dir(out, force=force) as dest:
+        return [
+            (s, evaluate_run(src / s, backend=backend, eval_dir=dest / s, scene=scene))
+            for s in found
+        ]

@@ -28,11 +28,12 @@ from locustjump.evo import params_class
 from locustjump.present.evaluate import evaluate_run
 from locustjump.present.rules import write_rules_run
 from locustjump.present.stages import reporter_of
-from locustjump.rundir.config import TrainConfig
+from locustjump.rundir.config import TrainConfig, scene_table, terrains_from_table
 from locustjump.rundir.migrations import reproduction_marker
 from locustjump.runs.trainer import train
 from locustjump.sim import model as lm
 from locustjump.sim.engine.job import DEFAULT_ENGINE, ENGINES
+from locustjump.sim.scene import Flat, Scene, Terrains
 from locustjump.tasks import behaviour_class
 from locustjump.version import __version__
 
@@ -119,6 +120,8 @@ class Reproduction:
     optimizer: str = "rcga"
     engine: str = DEFAULT_ENGINE
     many: bool = False
+    #: where every stage trains (and the rules run: its first terrain)
+    terrains: Terrains = Terrains()
 
     @classmethod
     def open(
@@ -130,10 +133,11 @@ class Reproduction:
         optimizer: str = "rcga",
         engine: str | None = None,
         many: bool = False,
+        terrains: Terrains | None = None,
     ) -> Reproduction:
         """The reproduction ``out`` holds or will hold, checked (a
-        ``UserError`` naming what is wrong); ``engine=None``: the one it was
-        started with, else the default. Writes nothing."""
+        ``UserError`` naming what is wrong); ``engine=None``, ``terrains=None``:
+        the ones it was started with, else the defaults. Writes nothing."""
         b = budget_of(budget)
         params_class(optimizer)  # a clear error for an unknown kind
         seeds = tuple(int(s) for s in seeds)
@@ -149,7 +153,9 @@ class Reproduction:
         marker = out / (rundir.SEEDS_MARKER if many else rundir.MARKER)
         if engine is None:
             engine = _read_marker(marker).get("engine", DEFAULT_ENGINE)
-        rep = cls(out, b, seeds, optimizer, str(engine), many)
+        if terrains is None:
+            terrains = terrains_from_table(_read_marker(marker)["scene"], str(marker))
+        rep = cls(out, b, seeds, optimizer, str(engine), many, terrains)
         rep.check()
         return rep
 
@@ -169,6 +175,12 @@ class Reproduction:
         flags = "" if self.optimizer == "rcga" else f" --optimizer {self.optimizer}"
         if self.engine != DEFAULT_ENGINE:
             flags += f" --engine {self.engine}"
+        t = self.terrains
+        if t != Terrains():
+            flags += f" --scene {t.scene.name}"
+            seed = getattr(t.scene, "seed", 0)
+            flags += f" --terrain-seed {seed}" if seed else ""
+            flags += f" --terrains {t.count}" if t.count > 1 else ""
         if self.many:
             seeds = f" --seeds {','.join(map(str, self.seeds))}"
             flags += "" if backend == "threads" else f" --backend {backend}"
@@ -183,7 +195,8 @@ class Reproduction:
         seed = {} if self.many else {"seed": self.seeds[0]}
         b = self.budget
         return {"budget": b.name, **seed, "optimizer": self.optimizer,
-                "engine": self.engine, "population": b.population}  # fmt: skip
+                "engine": self.engine, "population": b.population,
+                "scene": scene_table(self.terrains)}  # fmt: skip
 
     def check(self) -> None:
         """``out`` (and each seed's directory) may hold this reproduction or
@@ -262,7 +275,8 @@ class Reproduction:
         seed = self.seeds[0] if seed is None else seed
         kind = params_class(self.optimizer)(population=self.budget.population)
         return TrainConfig(stage, seed, self.budget.of(stage), kind,
-                           lm.LocustParams(), engine=self.engine)  # fmt: skip
+                           lm.LocustParams(), engine=self.engine,
+                           scene=self.terrains)  # fmt: skip
 
     def run_stage(
         self,
@@ -280,7 +294,9 @@ class Reproduction:
         d = self.seed_dir(seed) / stage
         if stage == rundir.RULES_DIR:
             log("[rules] rule-based successive jumping, 3000 steps")
-            run_rules_stage(d, backend=backend, engine=self.engine)
+            run_rules_stage(
+                d, backend=backend, engine=self.engine, scene=self.terrains.scene
+            )
             return None
         gens = self.budget.of(stage)
         cfg = self.train_config(stage, seed)
@@ -300,7 +316,7 @@ class Reproduction:
             log(f"[{stage}] the optimizer stopped at generation {res.generation}: "
                 f"{why}")  # fmt: skip
         t0 = time.perf_counter()
-        ev = evaluate_run(d, backend=backend)
+        ev = evaluate_run(d, backend=backend, eval_dir=d / rundir.EVAL)
         run_cfg, beh, best = rundir.load_run(d)
         extra = reporter_of(beh).extra_evaluation(
             beh, d, best.genome, run_cfg.model, backend=backend, engine=run_cfg.engine
@@ -316,17 +332,23 @@ class Reproduction:
 def _read_marker(path: Path) -> dict[str, Any]:
     """A marker's table, older ones as they were meant ({} if there is none)."""
     if not path.is_file():
-        return {}
+        return {"scene": scene_table(Terrains())}
     table = rundir.read_toml(path)
-    return reproduction_marker(table) if path.name == rundir.MARKER else table
+    if path.name == rundir.MARKER:
+        return reproduction_marker(table)
+    return {"scene": scene_table(Terrains()), **table}  # before scenes: flat
 
 
 def run_rules_stage(
-    out: Path, *, backend: Backend | None = None, engine: str = DEFAULT_ENGINE
+    out: Path,
+    *,
+    backend: Backend | None = None,
+    engine: str = DEFAULT_ENGINE,
+    scene: Scene = Flat(),
 ) -> dict[str, Any]:
     """The rule-based baseline: ``rules/trajectory.{csv,png}``, ``summary.json``."""
     t0 = time.perf_counter()
-    r = write_rules_run(out, steps=3000, backend=backend, engine=engine)
+    r = write_rules_run(out, steps=3000, backend=backend, engine=engine, scene=scene)
     summary = rundir.read_json(out / rundir.RULES_SUMMARY)
     summary["first_apex_height_m"] = r.jumps[0].apex_height if r.jumps else None
     summary["final_up_z"] = float(r.obs[-1, 8])

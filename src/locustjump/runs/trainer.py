@@ -95,7 +95,7 @@ class Trainer:
         )
         try:
             self.opt.load_state(state)
-        except (ValueError, KeyError, TypeError) as e:
+        except (ValueError, KeyError, TypeError, AttributeError, OverflowError) as e:
             raise UserError(f"{path}: malformed checkpoint ({e})") from None
 
     def run(
@@ -171,12 +171,11 @@ class Trainer:
             failed = False
         finally:
             bar.close()
-            if opt.generation > 0:
-                try:
-                    fitness_figure(run.out)
-                except UserError:
-                    if not failed:  # else the first error is the one to report
-                        raise
+            try:
+                fitness_figure(run.out)
+            except Exception:
+                if not failed:  # else the first error is the one to report
+                    raise
         assert run.best is not None
         return TrainResult(
             run.out, opt.generation, run.best, time.perf_counter() - t_start, stopped
@@ -229,10 +228,14 @@ def train(
             run = _resume(out, cfg, backend, bool(cls.requires))
             return run.run(progress=progress, stop_after=stop_after)
     run = _check_new(out, cfg, cls, frozen, backend)
-    out.mkdir(parents=True, exist_ok=True)
+    made = rundir.make_dir(out)
     with rundir.locked(out):
         _check_new(out, cfg, cls, frozen, backend)  # another process was first?
-        _create(run, frozen)
+        try:
+            _create(run, frozen)
+        except BaseException:  # a full disk, Ctrl-C: no half-made run is left
+            rundir.remove_made(made)
+            raise
         return run.run(progress=progress, stop_after=stop_after)
 
 
@@ -243,10 +246,11 @@ def _check_new(
     frozen: FrozenGenomes | None,
     backend: Backend,
 ) -> Trainer:
-    """Check everything a new run needs, writing nothing."""
-    if out.exists() and not out.is_dir():
-        raise UserError(f"--out {out}: exists and is not a directory")
-    if out.is_dir() and any(out.iterdir()):
+    """Check everything a new run needs, writing nothing. A directory that
+    holds only what a new run writes before its ``config.toml`` (one stopped
+    then) counts as empty: the same command starts it again."""
+    rundir.check_out_dir(out, force=True)  # a directory, or nothing yet
+    if out.is_dir() and any(out.iterdir()) and not rundir.is_unstarted(out):
         what = "holds a run" if rundir.is_run(out) else "is not empty"
         raise UserError(
             f"--out {out}: directory {what} (use --resume to continue a run, or "
@@ -260,12 +264,14 @@ def _check_new(
         )
     lm.check_model(cfg.model)
     beh = get_behaviour(
-        cfg.behaviour, frozen.genomes if cls.requires else None, cfg.options
-    )
+        cfg.behaviour, frozen.genomes if cls.requires else None, cfg.options,
+        cfg.scene,
+    )  # fmt: skip
 
     require_memory(
         rollout_bytes(
-            lm.load_model(cfg.model), cfg.population * len(beh.start_states(cfg.model)),
+            lm.load_model(cfg.model, beh.scene),
+            cfg.population * len(beh.start_states(cfg.model)) * cfg.scene.count,
             beh.n_steps, beh.record,
         ),
         f"population {cfg.population:,}: a generation",
@@ -286,7 +292,10 @@ def _optimizer(cfg: TrainConfig, task: Behaviour) -> Optimizer:
 
 
 def _create(run: Trainer, frozen: FrozenGenomes | None) -> None:
-    """The files of a new run directory."""
+    """The files of a new run directory (in place of what one stopped before
+    its ``config.toml`` left, :func:`~locustjump.rundir.is_unstarted`)."""
+    for leftover in run.out.iterdir():
+        leftover.unlink()
     if run.beh.requires:
         frozen.save(run.out / rundir.FROZEN)
     rundir.write_config(run.out / rundir.CONFIG, run.cfg)
@@ -375,9 +384,11 @@ def _keep_metrics_columns(run: Trainer) -> None:
 
 
 def fitness_figure(out: Path) -> Path:
-    """``DIR/fitness.png`` from ``DIR/metrics.csv``."""
+    """``DIR/fitness.png`` from ``DIR/metrics.csv`` (none before a first row)."""
 
     m = rundir.read_metrics(out / rundir.METRICS)
+    if not len(m):  # stopped within its first generation: nothing to draw
+        return out / rundir.FITNESS_PNG
     cfg = rundir.load_config(out / rundir.CONFIG)
     path = out / rundir.FITNESS_PNG
     fitness_curves(

@@ -7,6 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from locustjump.sim import model as lm
+from locustjump.sim.scene import Flat, Scene
 
 #: A jump is a stretch where the body centre is this many body lengths above
 #: its standing height.
@@ -21,13 +22,28 @@ class Jump:
     start: int  # control step the body rose above the threshold
     apex_step: int
     end: int
-    apex_height: float  # (m) body-centre height above the floor at the apex
+    apex_height: float  # (m) body-centre height above the ground at the apex
     apex_x: float  # (m) x at the apex
     rise: float  # (m) apex height minus standing height
 
 
-def find_jumps(qpos: np.ndarray, p: lm.LocustParams = lm.LocustParams()) -> list[Jump]:
-    """Jumps of one trajectory ``qpos (T, nq)``.
+def clearance(
+    qpos: np.ndarray, p: lm.LocustParams = lm.LocustParams(), scene: Scene = Flat()
+) -> np.ndarray:
+    """Height (m) of the body centre above the ground under it, of trajectories
+    ``qpos (..., nq)`` (shape ``qpos.shape[:-1]``): ``z`` on the flat floor,
+    ``z - h(x, y)`` on a terrain (``h``: :meth:`Scene.heights`)."""
+    z = qpos[..., 2]
+    if scene.is_flat:
+        return z
+    return z - scene.heights(qpos[..., 0], qpos[..., 1], p.body_length)
+
+
+def find_jumps(
+    qpos: np.ndarray, p: lm.LocustParams = lm.LocustParams(), scene: Scene = Flat()
+) -> list[Jump]:
+    """Jumps of one trajectory ``qpos (T, nq)`` (heights above the ground of
+    ``scene``: :func:`clearance`).
 
     A jump is a stretch where the body centre is more than ``JUMP_THRESHOLD_BL``
     body lengths above its standing height. A stretch is split where the body
@@ -35,7 +51,7 @@ def find_jumps(qpos: np.ndarray, p: lm.LocustParams = lm.LocustParams()) -> list
     side): in flight z is concave, so a local minimum of z with at least
     ``BOUNCE_PROMINENCE_BL`` of rise on both sides is a landing.
     """
-    z = qpos[:, 2]
+    z = clearance(qpos, p, scene)
     thr = JUMP_THRESHOLD_BL * p.body_length
     prom = BOUNCE_PROMINENCE_BL * p.body_length
     stand = lm.standing_height(p)
@@ -59,3 +75,19 @@ def find_jumps(qpos: np.ndarray, p: lm.LocustParams = lm.LocustParams()) -> list
             Jump(int(a), k, int(b), float(z[k]), float(qpos[k, 0]), float(z[k] - stand))
         )
     return jumps
+
+
+#: (Seconds) on its back or side this long counts as stuck overturned.
+STUCK_S = 1.0
+
+
+def stuck_overturned(uz: np.ndarray, dt: float = lm.CONTROL_DT) -> int | None:
+    """The first control step from which the body's up vector points down
+    (``U_z < 0``) for ``STUCK_S`` on end: the creature lies overturned (a
+    somersault in flight is shorter); ``None`` if it never does."""
+    n = max(1, round(STUCK_S / dt))
+    if len(uz) < n:
+        return None
+    runs = np.convolve(uz < 0, np.ones(n, int), "valid")
+    hit = np.flatnonzero(runs == n)
+    return int(hit[0]) if len(hit) else None

@@ -95,7 +95,7 @@ def to_mjcf(
     {creature.assets}
   </asset>
   <default>
-    <geom contype="0" conaffinity="0" condim="3"
+    <geom contype="{int(world.broad_phase)}" conaffinity="0" condim="3"
           friction="{p.friction:.9g} 0.005 0.0001"
           solref="{_fmt(*p.solref)}" solimp="{_fmt(*p.solimp)}"/>
     <pair condim="3" friction="{_fmt(p.friction, p.friction, 0.005, 0.0001, 0.0001)}"
@@ -114,8 +114,9 @@ def to_mjcf(
   <sensor>{creature.sensors}</sensor>
 </mujoco>
 """
-    if keyframe:
-        qpos, ctrl = _settle(xml, p)
+    if keyframe:  # the creature's ready posture, settled on the flat floor
+        flat = xml if scene.is_flat else to_mjcf(p, keyframe=False)
+        qpos, ctrl = _settle(flat, p)
         key = (
             f'  <keyframe><key name="{READY_KEY}" qpos="{_fmt(*qpos)}" '
             f'ctrl="{_fmt(*ctrl)}"/></keyframe>\n</mujoco>\n'

@@ -6,6 +6,7 @@ BODY = "body"  #: the thorax/abdomen; its frame origin is the body centre
 HEAD = "head"
 ROOT_JOINT = "root"  #: the free joint of the body
 FLOOR = "floor"
+DEBRIS = "debris"  # prefix of the debris scene's boxes: debris0, debris1, ...
 READY_KEY = "ready"  #: keyframe of the settled start state (Fig. 4)
 
 SIDES = ("l", "r")  #: left (+y) and right (-y)

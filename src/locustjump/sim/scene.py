@@ -22,9 +22,14 @@ list, each scene geom against the body's geoms in turn.
 
 from __future__ import annotations
 
+import dataclasses
+import math
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import ClassVar
+
+import numpy as np
 
 from locustjump.sim import names
 
@@ -36,6 +41,10 @@ class SceneMJCF:
     assets: str  #: children of ``<asset>``: textures, materials
     worldbody: str  #: children of ``<worldbody>``: its geoms (static bodies)
     geoms: tuple[str, ...]  #: geoms the creature may touch, in pair order
+    #: whether more geoms (``worldbody``'s with ``conaffinity="1"``) collide
+    #: with the creature through MuJoCo's broad phase: the creature's geoms then
+    #: get ``contype="1"`` (they still never collide with each other)
+    broad_phase: bool = False
 
 
 @dataclass(frozen=True)
@@ -47,6 +56,23 @@ class Scene(ABC):
     @abstractmethod
     def mjcf(self, body_length: float) -> SceneMJCF:
         """This scene's MJCF for a creature ``body_length`` metres long."""
+
+    def heights(self, x: np.ndarray, y: np.ndarray, body_length: float) -> np.ndarray:
+        """The ground's height (m) under the points ``(x, y)`` (m, any shape
+        alike): the top of what the creature stands on there."""
+        return np.zeros(np.broadcast(x, y).shape)
+
+    @property
+    def is_flat(self) -> bool:
+        """The plain floor: heights are 0 everywhere (fitness as in the paper)."""
+        return False
+
+    def with_seed(self, seed: int) -> Scene:
+        """The same scene with terrain seed ``seed`` (a scene without a
+        ``seed`` field has one terrain: itself)."""
+        if "seed" not in {f.name for f in dataclasses.fields(self)}:
+            return self
+        return dataclasses.replace(self, seed=seed)
 
 
 @dataclass(frozen=True)
@@ -75,6 +101,206 @@ class Flat(Scene):
             geoms=(names.FLOOR,),
         )
 
+    @property
+    def is_flat(self) -> bool:
+        return True
+
+
+#: Most boxes a debris field may hold (each adds one contact pair per creature
+#: geom; beyond this a terrain is refused rather than made slow or too large).
+MAX_BOXES = 2000
+#: Most terrains a genome may be scored on in training.
+MAX_TERRAINS = 64
+#: Most cells of a terrain's height grid (8 bytes each: 160 MB).
+MAX_CELLS = 20_000_000
+#: Cell of the height grid the fitness reads the ground's height from (body
+#: lengths; 1 cm at the default size).
+HEIGHT_CELL_BL = 0.02
+
+
+@dataclass(frozen=True)
+class Debris(Flat):
+    """Seeded rubble on the floor: random boxes along the direction of travel.
+
+    ``count = round(area / spacing**2)`` boxes (area: ``behind + length`` by
+    ``width``) with centres uniform over the field, turned by a uniform angle
+    about z, sides uniform in ``[size_min, size_max]`` and heights uniform in
+    ``[height_min, height_max]``; all from ``numpy.random.default_rng(seed)``,
+    so one ``seed`` is one terrain. Boxes that reach into the ``clearing``
+    (a circle around the start) are left out: the creature starts on the
+    floor, upright, with rubble around it. Lengths are in body lengths (0.5 m at the
+    default size), ``friction`` is the boxes' sliding friction against the
+    creature. The field covers ``x`` in ``[-behind, length]`` and ``y`` in
+    ``[-width/2, width/2]``: the creature starts on it (heading +x). Defaults
+    and why: ``docs/science.md``, "Successive jumping across debris".
+    """
+
+    name: ClassVar[str] = "debris"
+    _BL_FIELDS: ClassVar[tuple[str, ...]] = (
+        "length", "behind", "width", "spacing",
+        "size_min", "size_max", "height_min", "height_max",
+    )  # fmt: skip
+
+    seed: int = 0  #: the terrain (not the evolution's seed)
+    length: float = 26.0  #: (body lengths) of rubble ahead of the start
+    behind: float = 2.0  #: (body lengths) of rubble behind the start
+    width: float = 6.0  #: (body lengths) across, centred on the start
+    spacing: float = 1.2  #: (body lengths) mean distance between boxes
+    size_min: float = 0.3  #: (body lengths) shortest side of a box
+    size_max: float = 1.0  #: (body lengths) longest side of a box
+    height_min: float = 0.05  #: (body lengths) lowest box
+    height_max: float = 0.4  #: (body lengths) highest box
+    clearing: float = 1.0  #: (body lengths) radius kept free around the start
+    friction: float = 1.0  #: (-) sliding friction of the boxes
+
+    def __post_init__(self) -> None:
+        if isinstance(self.seed, bool) or not isinstance(self.seed, int):
+            raise ValueError(f"seed must be an integer, got {self.seed!r}")
+        if not 0 <= self.seed < 2**63:
+            raise ValueError(f"seed must be in [0, 2^63), got {self.seed}")
+        for key in (*self._BL_FIELDS, "friction"):
+            v = getattr(self, key)
+            if not (isinstance(v, (int, float)) and math.isfinite(v)):
+                raise ValueError(f"{key} must be a finite number, got {v!r}")
+        if not 0 <= self.clearing <= 1000:
+            raise ValueError(
+                f"clearing must be in [0, 1000] body lengths, got {self.clearing}"
+            )
+        for key in ("length", "width", "spacing", "size_min", "height_min"):
+            if not 0 < getattr(self, key) <= 1000:
+                raise ValueError(
+                    f"{key} must be in (0, 1000] body lengths, got {getattr(self, key)}"
+                )
+        if not 0 <= self.behind <= 1000:
+            raise ValueError(
+                f"behind must be in [0, 1000] body lengths, got {self.behind}"
+            )
+        for lo, hi in (("size_min", "size_max"), ("height_min", "height_max")):
+            if not getattr(self, lo) <= getattr(self, hi) <= 1000:
+                raise ValueError(
+                    f"{hi} must be in [{lo}, 1000] body lengths, "
+                    f"got {getattr(self, hi)}"
+                )
+        if not 1e-6 <= self.friction <= 100:
+            raise ValueError(f"friction must be in [1e-6, 100], got {self.friction}")
+        reach = 2 * self.size_max  # the grid's margin: a box's diagonal, both sides
+        cells = ((self.behind + self.length + reach) / HEIGHT_CELL_BL) * (
+            (self.width + reach) / HEIGHT_CELL_BL
+        )
+        if cells > MAX_CELLS:
+            raise ValueError(
+                f"the field is too large: its height grid would hold {cells:,.0f} "
+                f"cells of {HEIGHT_CELL_BL:g} body lengths (at most {MAX_CELLS:,}); "
+                "make it shorter or narrower"
+            )
+        if self.count > MAX_BOXES:
+            raise ValueError(
+                f"the field holds {self.count:,} boxes (area / spacing^2); at most "
+                f"{MAX_BOXES:,}: raise spacing or make the field smaller"
+            )
+
+    @property
+    def is_flat(self) -> bool:
+        return False
+
+    @property
+    def count(self) -> int:
+        """Boxes in the field."""
+        area = (self.behind + self.length) * self.width
+        return max(1, round(area / self.spacing**2))
+
+    def boxes(self, body_length: float) -> np.ndarray:
+        """(n, 6): centre x, y, yaw (rad), side x, side y, height (m) of the
+        boxes (``count`` drawn, those reaching into the clearing left out)."""
+        return _boxes(self) * np.array([body_length] * 2 + [1.0] + [body_length] * 3)
+
+    def mjcf(self, body_length: float) -> SceneMJCF:
+        """The floor (its pairs) and the boxes ``debris0`` ... (broad phase)."""
+        floor = super().mjcf(body_length)
+        # the boxes collide through the broad phase (117 boxes as explicit
+        # pairs: 1,416 pairs, mj_step 2.5x the floor's; broad phase: 1.6x);
+        # priority: their friction, not the larger of theirs and the creature's
+        contact = (
+            f'contype="0" conaffinity="1" priority="1" '
+            f'friction="{self.friction:.9g} 0.005 0.0001"'
+        )
+        geoms = []
+        for i, (x, y, yaw, sx, sy, h) in enumerate(self.boxes(body_length)):
+            name = f"{names.DEBRIS}{i}"
+            geoms.append(
+                f'<geom name="{name}" type="box" material="rubble" {contact} '
+                f'pos="{x:.9g} {y:.9g} {h / 2:.9g}" '
+                f'euler="0 0 {math.degrees(yaw):.9g}" '
+                f'size="{sx / 2:.9g} {sy / 2:.9g} {h / 2:.9g}"/>'
+            )
+        return SceneMJCF(
+            assets=floor.assets
+            + '\n    <material name="rubble" rgba="0.55 0.47 0.38 1" reflectance="0"/>',
+            worldbody=floor.worldbody + "\n    " + "\n    ".join(geoms),
+            geoms=floor.geoms,
+            broad_phase=True,
+        )
+
+    def heights(self, x: np.ndarray, y: np.ndarray, body_length: float) -> np.ndarray:
+        """The top of the highest box over each point (0 on the floor), read
+        from a grid of ``HEIGHT_CELL_BL`` cells (the box edges are exact to one
+        cell)."""
+        x0, y0, cell, grid = _height_grid(self, body_length)
+        x, y = np.broadcast_arrays(np.asarray(x, float), np.asarray(y, float))
+        i = np.floor((x - x0) / cell).astype(np.int64)
+        j = np.floor((y - y0) / cell).astype(np.int64)
+        inside = (i >= 0) & (i < grid.shape[0]) & (j >= 0) & (j < grid.shape[1])
+        out = np.zeros(x.shape)
+        out[inside] = grid[i[inside], j[inside]]
+        return out
+
+
+@lru_cache(maxsize=64)
+def _boxes(d: Debris) -> np.ndarray:
+    """The boxes of terrain ``d`` in body lengths (yaw in radians)."""
+    rng = np.random.default_rng(d.seed)
+    n = d.count
+    out = np.empty((n, 6))
+    out[:, 0] = rng.uniform(-d.behind, d.length, n)
+    out[:, 1] = rng.uniform(-d.width / 2, d.width / 2, n)
+    out[:, 2] = rng.uniform(0.0, math.pi / 2, n)
+    out[:, 3] = rng.uniform(d.size_min, d.size_max, n)
+    out[:, 4] = rng.uniform(d.size_min, d.size_max, n)
+    out[:, 5] = rng.uniform(d.height_min, d.height_max, n)
+    # conservative: a box's half diagonal against the clearing's radius
+    reach = np.hypot(out[:, 3], out[:, 4]) / 2
+    out = out[np.hypot(out[:, 0], out[:, 1]) >= d.clearing + reach]
+    out.flags.writeable = False
+    return out
+
+
+@lru_cache(maxsize=16)
+def _height_grid(
+    d: Debris, body_length: float
+) -> tuple[float, float, float, np.ndarray]:
+    """(x0, y0, cell, grid (nx, ny)): box tops rasterised at cell centres."""
+    boxes = d.boxes(body_length)
+    cell = HEIGHT_CELL_BL * body_length
+    reach = d.size_max * body_length / math.sqrt(2)  # a box's half diagonal
+    x0 = -d.behind * body_length - reach
+    y0 = -d.width / 2 * body_length - reach
+    nx = math.ceil(((d.behind + d.length) * body_length + 2 * reach) / cell)
+    ny = math.ceil((d.width * body_length + 2 * reach) / cell)
+    grid = np.zeros((nx, ny))
+    for x, y, yaw, sx, sy, h in boxes:
+        i0, i1 = (max(0, math.floor((c - x0) / cell)) for c in (x - reach, x + reach))
+        j0, j1 = (max(0, math.floor((c - y0) / cell)) for c in (y - reach, y + reach))
+        cx = x0 + (np.arange(i0, min(nx, i1 + 2)) + 0.5) * cell
+        cy = y0 + (np.arange(j0, min(ny, j1 + 2)) + 0.5) * cell
+        dx, dy = cx[:, None] - x, cy[None, :] - y
+        u = dx * math.cos(yaw) + dy * math.sin(yaw)
+        v = -dx * math.sin(yaw) + dy * math.cos(yaw)
+        inside = (np.abs(u) <= sx / 2) & (np.abs(v) <= sy / 2)
+        view = grid[i0 : i0 + len(cx), j0 : j0 + len(cy)]
+        np.maximum(view, np.where(inside, h, 0.0), out=view)
+    grid.flags.writeable = False
+    return x0, y0, cell, grid
+
 
 _REGISTRY: dict[str, type[Scene]] = {}
 
@@ -91,6 +317,7 @@ def register_scene(cls: type[Scene]) -> type[Scene]:
 
 
 register_scene(Flat)
+register_scene(Debris)
 
 
 def scene_names() -> tuple[str, ...]:
@@ -106,3 +333,49 @@ def scene_class(name: str) -> type[Scene]:
         raise ValueError(
             f"unknown scene {name!r}; choose from {', '.join(_REGISTRY)}"
         ) from None
+
+
+#: How the fitness on several terrains is combined into one.
+AGGREGATES = ("mean", "min")
+
+
+@dataclass(frozen=True)
+class Terrains:
+    """The terrains a genome is scored on: ``count`` of ``scene``, with terrain
+    seeds ``seed, seed + 1, ...`` (a scene without a seed: itself, once), each
+    genome's fitness combined over them by ``aggregate`` (``mean`` or ``min``:
+    the worst terrain)."""
+
+    scene: Scene = Flat()
+    count: int = 1
+    aggregate: str = "mean"
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.scene, Scene):
+            raise ValueError(f"scene must be a Scene, got {self.scene!r}")
+        if isinstance(self.count, bool) or not 1 <= self.count <= MAX_TERRAINS:
+            raise ValueError(
+                f"terrains must be an integer in [1, {MAX_TERRAINS}], "
+                f"got {self.count!r}"
+            )
+        if self.aggregate not in AGGREGATES:
+            raise ValueError(
+                f"aggregate must be one of {', '.join(AGGREGATES)}, "
+                f"got {self.aggregate!r}"
+            )
+        if self.count > 1 and self.scene.with_seed(1) == self.scene:
+            raise ValueError(
+                f"the {self.scene.name} scene has one terrain, not {self.count}"
+            )
+
+    @property
+    def scenes(self) -> tuple[Scene, ...]:
+        """One scene per terrain, in seed order."""
+        seed = getattr(self.scene, "seed", 0)
+        return tuple(self.scene.with_seed(seed + i) for i in range(self.count))
+
+    def combine(self, fitness: np.ndarray) -> np.ndarray:
+        """``fitness (count, n)`` on each terrain as one ``(n,)``."""
+        if len(fitness) == 1:
+            return fitness[0]
+        return fitness.min(axis=0) if self.aggregate == "min" else fitness.mean(axis=0)

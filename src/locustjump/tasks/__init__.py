@@ -15,6 +15,7 @@ from typing import Any
 
 import numpy as np
 
+from locustjump.sim.scene import Terrains
 from locustjump.tasks.base import Behaviour
 from locustjump.tasks.ceiling import CEILING
 from locustjump.tasks.composed import SIMPLE, Composed
@@ -64,7 +65,10 @@ def behaviour_class(name: str) -> type[Behaviour]:
 
 
 def get_behaviour(
-    name: str, frozen: np.ndarray | None = None, options: Any = None
+    name: str,
+    frozen: np.ndarray | None = None,
+    options: Any = None,
+    terrains: Terrains | None = None,
 ) -> Behaviour:
     """The behaviour called ``name``.
 
@@ -72,8 +76,9 @@ def get_behaviour(
     order of its ``requires`` (the composed behaviour's kick, getup and
     return-legs networks); ignored by behaviours that build on none.
     ``options``: its ``Options`` (default: the paper's settings).
+    ``terrains``: where it is scored (default: the flat floor).
     """
-    return behaviour_class(name)(frozen, options)
+    return behaviour_class(name)(frozen, options, terrains)
 
 
 __all__ = [

@@ -6,11 +6,11 @@ presentation layer's (:mod:`locustjump.present.stages`)."""
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, ClassVar
 
-import mujoco
 import numpy as np
 
 from locustjump.sim import model as lm
@@ -21,47 +21,11 @@ from locustjump.sim.engine.rollout import (
     StartStates,
     rollout,
 )
+from locustjump.sim.scene import Scene, Terrains
 from locustjump.tasks.reference import RulesRun, run_rules
 
 if TYPE_CHECKING:
     from locustjump.sim.engine.backends import Backend
-
-
-def settle(
-    p: lm.LocustParams,
-    *,
-    roll_deg: float = 0.0,
-    angles: np.ndarray | None = None,
-    seconds: float = 3.0,
-) -> StartStates:
-    """A start state settled on the ground before t = 0 (deterministic).
-
-    The Fig. 4 posture (keyframe ``ready``) is rolled by ``roll_deg`` about the
-    body's x-axis, its hind joints and servo targets set to ``angles`` (4,
-    radians; default phi), lifted until its bounding spheres clear the floor,
-    and simulated for ``seconds`` with the servos holding their targets. The
-    body is then moved back over the origin (heading and height kept).
-    """
-    m = lm.load_model(p)
-    idx = lm.ModelIndex.of(m)
-    d = mujoco.MjData(m)
-    mujoco.mj_resetDataKeyframe(m, d, m.key(lm.READY_KEY).id)
-    if angles is not None:
-        d.qpos[idx.qpos_joints] = angles
-        d.ctrl[:] = angles
-    q_roll = np.empty(4)
-    mujoco.mju_axisAngle2Quat(q_roll, np.array([1.0, 0.0, 0.0]), np.radians(roll_deg))
-    q = np.empty(4)
-    mujoco.mju_mulQuat(q, d.qpos[3:7].copy(), q_roll)  # rotation in the body frame
-    d.qpos[3:7] = q
-    mujoco.mj_forward(m, d)
-    creature = m.geom_bodyid != 0
-    low = (d.geom_xpos[creature, 2] - m.geom_rbound[creature]).min()
-    d.qpos[2] += 1e-3 * p.scale - low
-    mujoco.mj_forward(m, d)
-    mujoco.mj_step(m, d, nstep=round(seconds / m.opt.timestep))
-    d.qpos[:2] = 0.0
-    return StartStates(d.qpos[None].copy(), d.qvel[None].copy(), d.ctrl[None].copy())
 
 
 #: the finest physics a fitness may also be scored at (substeps a control step)
@@ -153,16 +117,31 @@ class Behaviour:
     gym_id: ClassVar[str | None] = None
     Options: ClassVar[type] = CommonOptions
 
-    def __init__(self, frozen: np.ndarray | None = None, options: Any = None):
+    def __init__(
+        self,
+        frozen: np.ndarray | None = None,
+        options: Any = None,
+        terrains: Terrains | None = None,
+    ):
         """``frozen`` (k, P): genomes of the ``requires`` runs, if any;
-        ``options``: an instance of ``Options`` (default: its defaults)."""
+        ``options``: an instance of ``Options`` (default: its defaults);
+        ``terrains``: where it is scored (default: the flat floor)."""
         self.frozen = None if frozen is None else np.asarray(frozen, np.float64)
+        self.terrains = Terrains() if terrains is None else terrains
+        #: the scene its episodes run in: the first terrain (:meth:`on`)
+        self.scene: Scene = self.terrains.scenes[0]
         self.options = self.Options() if options is None else options
         if not isinstance(self.options, self.Options):
             raise TypeError(
                 f"{self.name} takes {self.Options.__name__} options, "
                 f"got {type(self.options).__name__}"
             )
+
+    def on(self, scene: Scene) -> Behaviour:
+        """This behaviour with its episodes in ``scene`` (one terrain)."""
+        other = copy.copy(self)
+        other.scene, other.terrains = scene, Terrains(scene)
+        return other
 
     @classmethod
     def frozen_num_params(cls) -> int:
@@ -194,7 +173,11 @@ class Behaviour:
         if not self.reference_steps:
             return None
         return run_rules(
-            steps=self.reference_steps, model_params=p, backend=backend, engine=engine
+            steps=self.reference_steps,
+            model_params=p,
+            backend=backend,
+            engine=engine,
+            scene=self.scene,
         )
 
     def metrics(
@@ -240,6 +223,7 @@ class Behaviour:
             backend=backend,
             label=label,
             engine=engine,
+            scene=self.scene,
         )
 
     def fitness(self, res: RolloutResult, p: lm.LocustParams) -> np.ndarray:
@@ -261,10 +245,24 @@ class Behaviour:
         """Simulate genomes (n, P) and score them: their fitness (n,) and the
         rollout it came from (``record``: its fields, default :attr:`record`).
 
-        The fitness is :meth:`fitness` of the rollout; with the option
-        ``score_substeps``, the minimum of it and of the fitness at each of
-        those resolutions (simulated here too; their control steps are added
-        to the rollout's ``control_steps``)."""
+        On each of :attr:`terrains` the fitness is :meth:`fitness` of the
+        rollout; with the option ``score_substeps``, the minimum of it and of
+        the fitness at each of those resolutions (simulated here too; their
+        control steps are added to the rollout's ``control_steps``). The
+        terrains' fitness is combined by ``terrains.aggregate``; the rollout is
+        theirs concatenated, terrain-major."""
+        fits, parts = [], []
+        for scene in self.terrains.scenes:
+            beh = self if scene == self.scene else self.on(scene)
+            fit, res = beh._evaluate_here(genomes, p, backend, engine, record, label)
+            fits.append(fit)
+            parts.append(res)
+        if len(parts) == 1:
+            return fits[0], parts[0]
+        return self.terrains.combine(np.stack(fits)), RolloutResult.concat(parts)
+
+    def _evaluate_here(self, genomes, p, backend, engine, record, label):
+        """:meth:`evaluate` on this behaviour's scene alone."""
         res = self.simulate(
             genomes, p, backend=backend, engine=engine, record=record, label=label
         )

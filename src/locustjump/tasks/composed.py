@@ -11,7 +11,11 @@ behaviours (paper §4, Fig. 11–12).
 * episode: 3000 control steps (25 s);
 * fitness (Eq. 4): ``E = sum_{t=1..3000} z_t``, the body centre's height above
   the floor in metres, summed over control steps (unit: m x steps; divide by
-  3000 for the mean height).
+  3000 for the mean height). On a terrain (``debris``) ``z_t`` is the height
+  above the ground under the body centre, ``z_t - h(x_t, y_t)`` with ``h`` the
+  top of the rubble there (0 between boxes): perching on a box earns nothing
+  over lying on the floor, only time in the air (successive jumps, and getting
+  up to jump again) does; on the flat floor ``h = 0`` and it is the paper's.
 
 :mod:`.monolithic` adds the baseline beyond the paper on the same episode
 and fitness (``Successive``).
@@ -25,7 +29,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from locustjump.sim import model as lm
-from locustjump.sim.analysis import find_jumps
+from locustjump.sim.analysis import clearance, find_jumps
 from locustjump.sim.controller import MLP, Controller, MLPWeights
 from locustjump.sim.engine.job import RolloutResult, StartStates
 from locustjump.sim.kernels import soa
@@ -171,7 +175,7 @@ class Successive(Behaviour):
         return rolled_starts(p, (START_ROLL,))
 
     def episode_fitness(self, res: RolloutResult, p: lm.LocustParams) -> np.ndarray:
-        return res["qpos"][:, 1:, 2].sum(axis=1)
+        return clearance(res["qpos"], p, self.scene)[:, 1:].sum(axis=1)
 
     def metrics(
         self,
@@ -184,13 +188,14 @@ class Successive(Behaviour):
         over the rule-based jumps' mean apex (paper: > 2x at every jump;
         ``reference``: :meth:`reference`, simulated here if not given)."""
         qpos, uz = res["qpos"][0], res["obs"][0, :, 8]
-        jumps = find_jumps(qpos, p)
+        height = clearance(qpos, p, self.scene)
+        jumps = find_jumps(qpos, p, self.scene)
         rules = self.reference(p) if reference is None else reference
         rule_apex = [j.apex_height for j in rules.jumps]
         over, rec = overturns(uz)
         out: dict[str, Any] = {
             "fitness": float(self.fitness(res, p)[0]),
-            "mean_height_m": float(qpos[1:, 2].mean()),
+            "mean_height_m": float(height[1:].mean()),
             "jumps": len(jumps),
             "apex_heights_m": [round(j.apex_height, 4) for j in jumps],
             "distance_m": float(qpos[-1, 0] - qpos[0, 0]),
@@ -201,7 +206,7 @@ class Successive(Behaviour):
             "rules_mean_apex_height_m": float(np.mean(rule_apex))
             if rule_apex
             else None,
-            "rules_fitness": float(rules.qpos[1:, 2].sum()),
+            "rules_fitness": float(clearance(rules.qpos, p, self.scene)[1:].sum()),
             "unstable": bool(res.unstable[0]),
         }
         if rule_apex:

@@ -2,7 +2,7 @@
 
 * start: the Fig. 4 posture rolled about the body x-axis by 90, 135, 180, 225
   and 270 deg (one side -> upside down -> the other side) and settled on the
-  ground for 3 s (:func:`~locustjump.tasks.base.settle`). On our creature
+  ground for 3 s (:func:`~locustjump.tasks.starts.settle`). On our creature
   the round body cannot rest on its side: every roll in [90, 270] deg settles
   on its back, tilted towards the side it started on (``docs/behaviours.md``);
 * episode: 1000 control steps from each of the 5 states (one engine call);
@@ -30,8 +30,10 @@ from locustjump.sim.engine.job import (
 from locustjump.sim.engine.rollout import rollout
 from locustjump.sim.model import CONTROL_DT
 from locustjump.sim.resources import require_memory
-from locustjump.tasks.base import Behaviour, StepReward, settle
+from locustjump.sim.scene import Flat, Scene
+from locustjump.tasks.base import Behaviour, StepReward
 from locustjump.tasks.reference import RulesRun
+from locustjump.tasks.starts import settle
 
 if TYPE_CHECKING:
     from locustjump.sim.engine.backends import Backend
@@ -42,24 +44,27 @@ SETTLE_SECONDS = 3.0  # rocking on the back dies out by then (docs/behaviours.md
 
 
 @functools.lru_cache(maxsize=16)
-def rolled_starts(p: lm.LocustParams, rolls: tuple[float, ...]) -> StartStates:
-    """Settled start states for roll angles ``rolls`` (degrees), in order."""
+def rolled_starts(
+    p: lm.LocustParams, rolls: tuple[float, ...], scene: Scene = Flat()
+) -> StartStates:
+    """Settled start states for roll angles ``rolls`` (degrees), in order, in
+    ``scene``."""
     for r in rolls:
         if not 0.0 <= r < 360.0:
             raise ValueError(f"roll angle must be in [0, 360) degrees, got {r:g}")
     return StartStates.concat(
-        [settle(p, roll_deg=r, seconds=SETTLE_SECONDS) for r in rolls]
+        [settle(p, roll_deg=r, seconds=SETTLE_SECONDS, scene=scene) for r in rolls]
     )
 
 
-def _settled(p: lm.LocustParams, rolls: tuple[float, ...]) -> StartStates:
+def _settled(p: lm.LocustParams, rolls: tuple[float, ...], scene: Scene) -> StartStates:
     """:func:`rolled_starts` of many states, with a progress bar (terminal)."""
     if len(rolls) <= 2 * len(TRAIN_ROLLS):
-        return rolled_starts(p, rolls)
+        return rolled_starts(p, rolls, scene)
 
     return StartStates.concat(
         [
-            rolled_starts(p, (r,))
+            rolled_starts(p, (r,), scene)
             for r in tqdm(
                 rolls, desc="settling start states", unit="state", disable=None
             )  # fmt: skip
@@ -101,7 +106,7 @@ class GetUp(Behaviour):
     gym_id = "LocustGetUp-v0"
 
     def start_states(self, p: lm.LocustParams) -> StartStates:
-        return rolled_starts(p, self.rolls)
+        return rolled_starts(p, self.rolls, self.scene)
 
     def episode_fitness(self, res: RolloutResult, p: lm.LocustParams) -> np.ndarray:
         return up_z(res)[:, 1:].mean(axis=1)
@@ -186,19 +191,22 @@ def sweep_getup(
     *,
     backend: Backend | None = None,
     engine: str = DEFAULT_ENGINE,
+    scene: Scene = Flat(),
 ) -> Sweep:
-    """Evaluate one get-up controller from ``angles`` plus the training states."""
+    """Evaluate one get-up controller from ``angles`` plus the training states
+    (in ``scene``)."""
     rolls = tuple(float(a) for a in angles) + TRAIN_ROLLS
     res = rollout(
         GetUp().controller,
         genome[None],
-        _settled(p, rolls),
+        _settled(p, rolls, scene),
         GetUp.n_steps,
         model_params=p,
         record=("obs",),
         backend=backend,
         label=f"sweep: {len(rolls)} states",
         engine=engine,
+        scene=scene,
     )
     uz = np.where(res.unstable[:, None], -1.0, up_z(res))
     s = getup_summary(uz)

@@ -10,7 +10,6 @@
 
 from __future__ import annotations
 
-import functools
 import math
 from typing import TYPE_CHECKING, Any
 
@@ -20,17 +19,19 @@ from locustjump.sim import model as lm
 from locustjump.sim.analysis import find_jumps
 from locustjump.sim.engine.job import RolloutResult, StartStates
 from locustjump.sim.model import CONTROL_DT
+from locustjump.sim.scene import Flat, Scene
 from locustjump.tasks.base import Behaviour, StepReward
 from locustjump.tasks.reference import RulesRun
+from locustjump.tasks.starts import ready_state
 
 if TYPE_CHECKING:
     pass
 
 
-@functools.lru_cache(maxsize=8)
-def ready_start(p: lm.LocustParams) -> StartStates:
-    """The settled Fig. 4 start state (keyframe ``ready``)."""
-    return StartStates.ready(lm.load_model(p))
+def ready_start(p: lm.LocustParams, scene: Scene = Flat()) -> StartStates:
+    """The settled Fig. 4 start state (keyframe ``ready``; on a terrain, that
+    posture settled on it)."""
+    return ready_state(p, scene)
 
 
 def kick_fitness(qpos: np.ndarray) -> np.ndarray:
@@ -79,7 +80,7 @@ class Kick(Behaviour):
     gym_id = "LocustKick-v0"
 
     def start_states(self, p: lm.LocustParams) -> StartStates:
-        return ready_start(p)
+        return ready_start(p, self.scene)
 
     def episode_fitness(self, res: RolloutResult, p: lm.LocustParams) -> np.ndarray:
         return kick_fitness(res["qpos"])

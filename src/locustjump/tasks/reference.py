@@ -6,15 +6,16 @@ what the kick and the composed behaviour compare with
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from locustjump.sim import model as lm
-from locustjump.sim.analysis import find_jumps
-from locustjump.sim.engine.job import StartStates
+from locustjump.sim.analysis import find_jumps, stuck_overturned
 from locustjump.sim.engine.rollout import DEFAULT_ENGINE, rollout
+from locustjump.sim.scene import Flat, Scene
 from locustjump.tasks.rules import DEFAULT_CHANGE_TIME, RuleController
+from locustjump.tasks.starts import ready_state
 
 if TYPE_CHECKING:
     from locustjump.sim.engine.backends import Backend
@@ -30,14 +31,17 @@ class RulesRun:
     jumps: list
     change_time: float
     unstable: bool
+    scene: Scene = Flat()  #: where it ran
 
     def head(self, steps: int, p: lm.LocustParams) -> RulesRun:
         """Its first ``steps`` control steps (the same as a run of ``steps``:
         episodes do not depend on their length), jumps found again at ``p``."""
         qpos = self.qpos[: steps + 1]
         obs, ctrl = self.obs[: steps + 1], self.ctrl[: steps + 1]
-        jumps = find_jumps(qpos, p)
-        return RulesRun(qpos, obs, ctrl, jumps, self.change_time, self.unstable)
+        jumps = find_jumps(qpos, p, self.scene)
+        return RulesRun(
+            qpos, obs, ctrl, jumps, self.change_time, self.unstable, self.scene
+        )
 
 
 def run_rules(
@@ -48,30 +52,48 @@ def run_rules(
     backend: Backend | None = None,
     label: str = "",
     engine: str = DEFAULT_ENGINE,
+    scene: Scene = Flat(),
 ) -> RulesRun:
-    """Run the rule-based successive jumping from the Fig. 4 start state
-    (``backend``: where, :mod:`~.engine.backends`; ``label``: a progress bar
-    on a terminal)."""
+    """Run the rule-based successive jumping from the Fig. 4 start state in
+    ``scene`` (``backend``: where, :mod:`~.engine.backends`; ``label``: a
+    progress bar on a terminal)."""
     if steps < 1:
         raise ValueError(f"steps must be >= 1, got {steps}")
     rc = RuleController.for_model(model_params)
     res = rollout(
         rc,
         rc.params_for(change_time),
-        StartStates.ready(lm.load_model(model_params)),
+        ready_state(model_params, scene),
         steps,
         model_params=model_params,
         record=("qpos", "obs", "ctrl"),
         backend=backend,
         label=label,
         engine=engine,
+        scene=scene,
     )
     qpos = res["qpos"][0]
     return RulesRun(
         qpos,
         res["obs"][0],
         res["ctrl"][0],
-        find_jumps(qpos, model_params),
+        find_jumps(qpos, model_params, scene),
         float(change_time),
         bool(res.unstable[0]),
+        scene,
     )
+
+
+def rules_outcome(run: RulesRun, p: lm.LocustParams) -> dict[str, Any]:
+    """How far the rules got: jumps, the first time it lay overturned for good
+    (:func:`~locustjump.sim.analysis.stuck_overturned`; the rules cannot get
+    up), the jumps before that and the distance (m, along x) by then."""
+    stuck = stuck_overturned(run.obs[:, 8])
+    end = len(run.qpos) - 1 if stuck is None else stuck
+    return {
+        "jumps": len(run.jumps),
+        "stuck_overturned_s": None if stuck is None else stuck * lm.CONTROL_DT,
+        "jumps_before_stuck": sum(j.start < end for j in run.jumps),
+        "distance_m": float(run.qpos[end, 0] - run.qpos[0, 0]),
+        "final_up_z": float(run.obs[-1, 8]),
+    }

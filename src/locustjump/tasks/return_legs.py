@@ -20,14 +20,16 @@ import numpy as np
 from locustjump.sim import model as lm
 from locustjump.sim import names
 from locustjump.sim.engine.job import RolloutResult, StartStates
-from locustjump.tasks.base import Behaviour, StepReward, settle
+from locustjump.sim.scene import Flat, Scene
+from locustjump.tasks.base import Behaviour, StepReward
 from locustjump.tasks.reference import RulesRun
+from locustjump.tasks.starts import settle
 
 
 @functools.lru_cache(maxsize=8)
-def extended_start(p: lm.LocustParams) -> StartStates:
-    """Upright, hind legs extended, settled (deterministic)."""
-    return settle(p, angles=p.kick_angles(), seconds=1.0)
+def extended_start(p: lm.LocustParams, scene: Scene = Flat()) -> StartStates:
+    """Upright, hind legs extended, settled in ``scene`` (deterministic)."""
+    return settle(p, angles=p.kick_angles(), seconds=1.0, scene=scene)
 
 
 def joint_errors(res: RolloutResult, p: lm.LocustParams) -> np.ndarray:
@@ -53,7 +55,7 @@ class ReturnLegs(Behaviour):
     gym_id = "LocustReturnLegs-v0"
 
     def start_states(self, p: lm.LocustParams) -> StartStates:
-        return extended_start(p)
+        return extended_start(p, self.scene)
 
     def episode_fitness(self, res: RolloutResult, p: lm.LocustParams) -> np.ndarray:
         return -joint_errors(res, p)[:, 1:].sum(axis=2).mean(axis=1)

@@ -42,9 +42,10 @@ class Claim:
 
     ``ours`` is ``None`` while the stage has not run yet. ``value`` (what
     ``measure`` names) and ``ok`` are the number and the verdict as data, which
-    the summary across seeds reduces to a median, a range and a count. ``why``,
-    printed under the table when the claim fails, says what a study measured
-    about the reason (docs/science.md), not this run.
+    the summary across seeds reduces to a median, a range and a count. Under
+    the table, a failing claim gets ``reason``, why *this run* misses it (read
+    from its own numbers), and ``why``, what a study measured about the
+    reason beyond this run (docs/science.md).
     """
 
     text: str  # the claim, as the paper makes it (figure in parentheses)
@@ -55,6 +56,7 @@ class Claim:
     ok: bool | None = None  # reproduced by our criterion
     measure: str = ""  # what ``value`` is, with its unit
     why: str = ""  # what is known of why it fails, beyond this run (a study)
+    reason: str = ""  # why this run misses it, from its own numbers
 
     def row(self) -> str:
         ours = (
@@ -68,9 +70,10 @@ def yes(ok: bool) -> str:
     return "**yes**" if ok else "no"
 
 
-def fmt(x: float | None, spec: str = ".2f") -> str:
-    """A number of a claim row; ``n/a`` where there is none."""
-    return "n/a" if x is None else format(x, spec)
+def fmt(x: float | None, spec: str = ".2f", unit: str = "") -> str:
+    """A number of a claim row with its ``unit`` ("x", " m"); ``n/a``, with
+    no unit, where there is none (not "n/ax")."""
+    return "n/a" if x is None else format(x, spec) + unit
 
 
 class Reporter:
@@ -99,7 +102,7 @@ class Reporter:
         beh, res, p, _ = ep
         path = out / TRAJECTORY_PNG
         qpos = res["qpos"][0]
-        trajectory_figure(path, [(beh.name, qpos, find_jumps(qpos, p))])
+        trajectory_figure(path, [(beh.name, qpos, find_jumps(qpos, p, beh.scene))])
         return [path]
 
     def extra_evaluation(

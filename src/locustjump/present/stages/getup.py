@@ -4,6 +4,7 @@ the claims "5 of 5" and "65 of 180"."""
 
 from __future__ import annotations
 
+import contextlib
 import os
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -16,6 +17,7 @@ from locustjump.present.plots import getup_figure, sweep_figure
 from locustjump.present.stages.base import Claim, Episodes, Reporter, fmt, yes
 from locustjump.sim import model as lm
 from locustjump.sim.engine.job import DEFAULT_ENGINE
+from locustjump.sim.scene import Scene
 from locustjump.tasks import Behaviour
 from locustjump.tasks.getup import (
     SUCCESS_UZ,
@@ -63,7 +65,9 @@ class GetUpReporter(Reporter):
         engine: str = DEFAULT_ENGINE,
     ) -> dict[str, Any]:
         """The paper's generalisation test (180 states): ``run/sweep/``."""
-        sw = sweep_getup(genome, p, sweep_angles(), backend=backend, engine=engine)
+        sw = sweep_getup(
+            genome, p, sweep_angles(), backend=backend, engine=engine, scene=beh.scene
+        )
         write_sweep(Path(run), sw)
         return {"sweep_got_up": sw.got_up, "sweep_states": sw.n_sweep}
 
@@ -127,16 +131,21 @@ def sweep_run(
     angles: np.ndarray,
     *,
     backend: Backend | None = None,
+    scene: Scene | None = None,
 ) -> tuple[Sweep, list[Path]]:
     """The get-up generalisation test of getup run ``path``'s best genome from
     roll ``angles`` (plus the training states): ``DIR/sweep/sweep.csv`` and
-    ``sweep.png``."""
+    ``sweep.png`` (a shipped run's under ``runs/shipped/``:
+    :func:`locustjump.rundir.derived_dir`)."""
     cfg, _, best = rundir.load_run(path)
     if cfg.behaviour != GetUp.name:
         raise UserError(
             f"{path}: holds a {cfg.behaviour!r} run; sweep-getup needs a getup run"
         )
-    sw = sweep_getup(best.genome, cfg.model, angles, backend=backend,
-                     engine=cfg.engine)  # fmt: skip
-    with rundir.locked(path):
-        return sw, write_sweep(Path(path), sw)
+    dest = rundir.derived_dir(Path(path))  # a shipped run is not written
+    held = rundir.locked(path) if dest == Path(path) else contextlib.nullcontext()
+    with held:  # in the run: from the simulation to the last file
+        sw = sweep_getup(best.genome, cfg.model, angles, backend=backend,
+                         engine=cfg.engine, scene=scene or cfg.scene.scene)  # fmt: skip
+        dest.mkdir(parents=True, exist_ok=True)
+        return sw, write_sweep(dest, sw)

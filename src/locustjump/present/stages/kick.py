@@ -44,7 +44,7 @@ class KickReporter(Reporter):
         trajectory_figure(
             path,
             [
-                ("evolved kick", qpos, find_jumps(qpos, p)),
+                ("evolved kick", qpos, find_jumps(qpos, p, beh.scene)),
                 ("rule-based", rules.qpos, rules.jumps),
             ],
             title=f"Kicking the ground: evolved vs rule-based ({beh.n_steps} steps)",
@@ -66,15 +66,26 @@ class KickReporter(Reporter):
             Claim(
                 claim.text,
                 claim.paper,
-                f"{fmt(ratio)}x ({fmt(k['apex_height_m'])} m vs "
-                f"{fmt(k.get('rules_first_apex_height_m'))} m)",
+                f"{fmt(ratio, unit='x')} ({fmt(k['apex_height_m'], unit=' m')} vs "
+                f"{fmt(k.get('rules_first_apex_height_m'), unit=' m')})",
                 f"{yes(ok)} (>= {KICK_RATIO_OK}x)",
                 ratio,
                 ok,
                 "apex / rule-based first apex (x)",
                 why=KICK_WHY,
+                reason=_reason(k),
             )
         ]
+
+
+def _reason(k: dict[str, Any]) -> str:
+    """What this kick did instead of jumping 2x as high."""
+    parts = [f"its highest point is {k['apex_height_m']:.2f} m"]
+    if k.get("distance_at_apex_m") is not None:
+        parts.append(f"{k['distance_at_apex_m']:.2f} m forward")
+    if k.get("takeoff_angle_deg") is not None:
+        parts.append(f"after a take-off at {k['takeoff_angle_deg']:.0f} deg")
+    return ", ".join(parts) + ": E = max dx*dz rewards distance as much as height"
 
 
 class CeilingReporter(KickReporter):

@@ -45,15 +45,17 @@ class SuccessiveReporter(Reporter):
         rules = (reference or beh.reference(p)).head(beh.n_steps, p)
         selected = res["memory"][0, 1:, 0] if "memory" in res.records else None
         path = out / f"{beh.name}.png"
+        jumps = find_jumps(qpos, p, beh.scene)
+        what = "Successive jumping" if len(jumps) > 1 else _jumps(len(jumps))
         composed_figure(
             path,
             [
-                (beh.name, qpos, find_jumps(qpos, p)),
+                (beh.name, qpos, jumps),
                 ("rule-based", rules.qpos, rules.jumps),
             ],
             selected,
             SIMPLE,
-            title=f"Successive jumping: {beh.name} vs rule-based ({beh.n_steps} steps)",
+            title=f"{what}: {beh.name} vs rule-based ({beh.n_steps} steps)",
         )
         return [path]
 
@@ -63,8 +65,8 @@ class ComposedReporter(SuccessiveReporter):
         (
             f"{EVAL}/composed.png",
             "composed",
-            "Successive jumping by the composed controller, with the selected "
-            "simple behaviour (Fig. 12):",
+            "The composed controller beside the rule-based jumping, with the "
+            "selected simple behaviour (Fig. 12):",
         ),
     )
     headline = ("jumps", "apex_heights_m", "min_apex_ratio_to_rules")
@@ -81,19 +83,54 @@ class ComposedReporter(SuccessiveReporter):
         ratios = c.get("apex_ratios_to_rules", [])
         low = min(ratios) if ratios else None
         ok = c["jumps"] >= 2 and low is not None and low > PAPER_COMPOSED_RATIO
+        ratio = (
+            "nothing to compare"
+            if low is None
+            else f"smallest ratio {fmt(low, unit='x')}"
+        )
         return [
             Claim(
                 claim.text,
                 claim.paper,
-                f"{c['jumps']} jumps, smallest ratio {fmt(low)}x (rule-based mean "
-                f"apex {fmt(c.get('rules_mean_apex_height_m'))} m)",
+                f"{_jumps(c['jumps'])}, {ratio} (rule-based mean "
+                f"apex {fmt(c.get('rules_mean_apex_height_m'), unit=' m')})",
                 f"{yes(ok)} (>= 2 jumps, each > 2x)",
                 low,
                 ok,
                 "smallest jump / rule-based mean apex (x)",
                 why=COMPOSED_WHY,
+                reason=_composed_reason(c),
             )
         ]
+
+
+def _jumps(n: int) -> str:
+    return f"{n} jump{'s' * (n != 1)}"
+
+
+def _composed_reason(c: dict[str, Any]) -> str:
+    """What this composed controller did: which behaviour the switcher
+    selected, and its jumps or why it made none."""
+    steps = c.get("selected_steps") or {}
+    chosen = [f"{name} {n}" for name, n in steps.items() if n]
+    if len(chosen) == 1:  # "return-legs 3000 of the 3000 steps"
+        chosen = [f"{chosen[0].rsplit(' ', 1)[0]} for all"]
+    elif len(chosen) > 1:
+        chosen[-2:] = [f"{chosen[-2]} and {chosen[-1]}"]
+    switcher = (
+        f" (the switcher selects {', '.join(chosen)} of the "
+        f"{sum(steps.values())} steps)"
+        if chosen
+        else ""
+    )
+    if c["jumps"] == 0:
+        never = [name for name, n in steps.items() if n == 0]
+        why = f"; it never selects {' or '.join(never)}" if never else ""
+        lying = ", and it ends on its back" if c.get("final_up_z", 1.0) < 0 else ""
+        return f"the composed controller never jumps{switcher}{why}{lying}"
+    heights = c.get("apex_heights_m") or []
+    top = f", the highest {max(heights):.2f} m" if heights else ""
+    return f"{_jumps(c['jumps'])}{top}{switcher}"
 
 
 class MonolithicReporter(SuccessiveReporter):
@@ -172,7 +209,7 @@ class MonolithicReporter(SuccessiveReporter):
         return lines + [
             "",
             f"Composition beats the monolithic network in {wins} of {len(pairs)} "
-            f"seeds; median ratio {fmt(med)}x; two-sided sign test over the "
+            f"seeds; median ratio {fmt(med, unit='x')}; two-sided sign test over the "
             f"seeds p = {sign_test(wins, len(pairs)):.3g}.",
             "",
         ]

@@ -19,6 +19,7 @@ from locustjump.sim.engine.job import (
     record_shapes,
     went_unstable,
 )
+from locustjump.sim.scene import Flat, Scene
 
 
 class Episode:
@@ -34,9 +35,11 @@ class Episode:
         ep.unstable                          # the simulation went unstable
     """
 
-    def __init__(self, model_params: lm.LocustParams = lm.LocustParams()):
+    def __init__(
+        self, model_params: lm.LocustParams = lm.LocustParams(), scene: Scene = Flat()
+    ):
         self.params = model_params
-        self.model = lm.load_model(model_params)
+        self.model = lm.load_model(model_params, scene)
         self.data = mujoco.MjData(self.model)
         self.index = lm.ModelIndex.of(self.model)
         self._observe = observer(self.index, model_params)
@@ -81,7 +84,7 @@ def reference_rollout(job: RolloutJob) -> RolloutResult:
 
     Slow; kept to test the engine against (same results, bit for bit).
     """
-    ep = Episode(job.model_params)
+    ep = Episode(job.model_params, job.scene)
     ctl = job.controller
     parts = []
     for e in range(job.n_episodes):

@@ -390,7 +390,9 @@ def _redo(job: RolloutJob, failed: np.ndarray, result: RolloutResult) -> None:
     loop, alone (episodes are independent: the same as in the whole batch)."""
     sub = replace(job, params=job.params[failed], starts=job.starts.take(failed),
                   label="")  # fmt: skip
-    batch = Batch(lm.load_model(job.model_params), len(failed), 1, persistent=True)
+    batch = Batch(
+        lm.load_model(job.model_params, job.scene), len(failed), 1, persistent=True
+    )
     again = run_compiled(batch, sub)
     for k, a in result.records.items():
         a[failed] = again.records[k]

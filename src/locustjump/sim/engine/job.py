@@ -16,6 +16,7 @@ from tqdm.auto import tqdm
 from locustjump.sim import actuation, sensors
 from locustjump.sim import model as lm
 from locustjump.sim.controller import Controller
+from locustjump.sim.scene import Flat, Scene
 
 #: What can be recorded per control step, and its per-step shape.
 RECORDABLE = ("qpos", "obs", "ctrl", "memory")
@@ -106,6 +107,8 @@ class RolloutJob:
     #: the engine strategy (a key of ``strategies.STRATEGIES``: one of a
     #: run's ``ENGINES``, or another strategy such as ``numba-loop``)
     engine: str = DEFAULT_ENGINE
+    #: the world the creature is in (``load_model(model_params, scene)``)
+    scene: Scene = Flat()
 
     def __post_init__(self) -> None:
         if self.n_steps < 1:
@@ -141,6 +144,7 @@ class RolloutJob:
                 self.record,
                 self.label,
                 self.engine,
+                self.scene,
             )
             for a, b in zip(bounds[:-1], bounds[1:], strict=True)
             if b > a
@@ -165,6 +169,15 @@ class RolloutResult:
 
     def __getitem__(self, name: str) -> np.ndarray:
         return self.records[name]
+
+    def head(self, n: int) -> RolloutResult:
+        """Its first ``n`` episodes (``control_steps``: all of them)."""
+        return RolloutResult(
+            {k: v[:n] for k, v in self.records.items()},
+            self.unstable[:n],
+            self.steps[:n],
+            self.control_steps,
+        )
 
     @classmethod
     def concat(cls, parts: Sequence[RolloutResult]) -> RolloutResult:

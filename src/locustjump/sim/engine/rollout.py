@@ -27,6 +27,7 @@ from locustjump.sim.engine.job import (
 )
 from locustjump.sim.engine.strategies import run_batch
 from locustjump.sim.resources import require_memory
+from locustjump.sim.scene import Flat, Scene
 
 __all__ = [
     "DEFAULT_ENGINE",
@@ -53,6 +54,7 @@ def rollout(
     backend: Backend | None = None,
     label: str = "",
     engine: str = DEFAULT_ENGINE,
+    scene: Scene = Flat(),
 ) -> RolloutResult:
     """Evaluate every controller from every start state.
 
@@ -69,6 +71,7 @@ def rollout(
         (on a terminal).
       engine: how the controllers are computed between physics calls
         (``ENGINES``).
+      scene: the world (:mod:`locustjump.sim.scene`; default: the flat floor).
 
     Raises:
       UserError: the rollout would not fit in the memory available.
@@ -81,7 +84,8 @@ def rollout(
     k = len(starts)
     require_memory(
         rollout_bytes(
-            lm.load_model(model_params), params.shape[0] * k, int(n_steps), record,
+            lm.load_model(model_params, scene), params.shape[0] * k, int(n_steps),
+            record,
             controller.memory_size,
         ),
         f"a rollout of {params.shape[0] * k:,} episodes x {int(n_steps):,} steps",
@@ -95,6 +99,7 @@ def rollout(
         tuple(record),
         label,
         engine,
+        scene,
     )
     if backend is None:
         with ThreadBackend() as own:

@@ -11,6 +11,7 @@ from mujoco.batch import Batch
 from locustjump.sim import model as lm
 from locustjump.sim.engine.job import RolloutJob, RolloutResult
 from locustjump.sim.engine.strategies import run_batch
+from locustjump.sim.scene import Scene
 
 
 class Backend(Protocol):
@@ -47,20 +48,20 @@ class ThreadBackend:
         self.threads = default_threads() if threads is None else int(threads)
         if self.threads < 1:
             raise ValueError(f"threads must be >= 1, got {threads}")
-        self._batches: dict[tuple[lm.LocustParams, int], Batch] | None = {}
+        self._batches: dict[tuple[lm.LocustParams, Scene, int], Batch] | None = {}
 
-    def _batch(self, p: lm.LocustParams, n: int) -> Batch:
-        key = (p, n)
+    def _batch(self, p: lm.LocustParams, scene: Scene, n: int) -> Batch:
+        key = (p, scene, n)
         if key not in self._batches:
             self._batches[key] = Batch(
-                lm.load_model(p), n, min(self.threads, n), persistent=True
+                lm.load_model(p, scene), n, min(self.threads, n), persistent=True
             )
         return self._batches[key]
 
     def run(self, job: RolloutJob) -> RolloutResult:
         if self._batches is None:
             raise RuntimeError("this ThreadBackend is closed")
-        return run_batch(self._batch(job.model_params, job.n_episodes), job)
+        return run_batch(self._batch(job.model_params, job.scene, job.n_episodes), job)
 
     def close(self) -> None:
         """Release the cached batches (their simulations and threads); a

@@ -1,0 +1,213 @@
+"""Issue #30: successive jumping across debris, on terrains training never saw.
+
+Every controller runs the composed behaviour's episode (3000 control steps,
+from its start on its side; the rules also from their standing start) on each
+debris terrain of ``--terrain-seeds`` (default 100-119; training used 0 and
+1) and is scored by the debris fitness (Eq. 4 with the height above the
+ground under the body, ``tasks/composed.py``). Rows:
+
+* the rule-based jumper (paper §2.2), standing and on its side: its jumps
+  before it lies overturned for good (U_z < 0 for 1 s) and how far it got;
+* the rules plus an evolved get-up network (``RuleGetupController``; the
+  get-up network drives while U_z < 0, or while U_z < 0.5 and I6 >= 0.8, as
+  in ``scripts/study_references.py``) for the flat-evolved get-up of each
+  reproduction given with ``--flat``;
+* the composed and monolithic controllers of those flat reproductions,
+  zero-shot on debris;
+* every debris-trained composed or monolithic run given with ``--runs``
+  (``scripts/debris_study.sh``), with its training fitness (the mean over its
+  2 training terrains) and the generalisation gap;
+* a two-sided Mann-Whitney U test (SciPy) between groups of runs: composed
+  (flat simples), composed (debris simples) and monolithic, each run's
+  held-out mean as one sample.
+
+Usage::
+
+    .venv/bin/python scripts/debris_table.py --flat results/long-seed0 \\
+        results/study/long/seed-{1,2} --runs runs/debris/*/composed \\
+        runs/debris/*/monolithic runs/debris/flat-simples-composed-s* \\
+        [--json FILE]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+from scipy.stats import mannwhitneyu
+
+from locustjump import rundir
+from locustjump.present.evaluate import evaluate_terrains
+from locustjump.runs.multiseed import parse_seeds
+from locustjump.sim import model as lm
+from locustjump.sim.analysis import clearance, find_jumps, stuck_overturned
+from locustjump.sim.engine.backends import ThreadBackend
+from locustjump.sim.engine.rollout import rollout
+from locustjump.sim.scene import Debris
+from locustjump.tasks.composed import START_ROLL, overturns
+from locustjump.tasks.getup import rolled_starts
+from locustjump.tasks.rules import (
+    DEFAULT_CHANGE_TIME,
+    RuleController,
+    RuleGetupController,
+)
+from locustjump.tasks.starts import ready_state
+
+STEPS = 3000
+
+
+def episodes(ctrl, params, starts, p, scene, backend) -> list[dict]:
+    """Debris fitness, jumps, overturns of each controller row of ``params``."""
+    res = rollout(ctrl, params, starts, STEPS, model_params=p, scene=scene,
+                  record=("qpos", "obs"), backend=backend)  # fmt: skip
+    rows = []
+    for q, obs, bad in zip(res["qpos"], res["obs"], res.unstable, strict=True):
+        uz = obs[:, 8]
+        over, rec = overturns(uz)
+        jumps = find_jumps(q, p, scene)
+        stuck = stuck_overturned(uz)
+        end = len(q) - 1 if stuck is None else stuck
+        rows.append({
+            "fitness": 0.0 if bad else float(clearance(q, p, scene)[1:].sum()),
+            "jumps": len(jumps),
+            "jumps_before_stuck": sum(j.start < end for j in jumps),
+            "overturned": over,
+            "recovered": rec,
+            "distance_m": float(q[-1, 0] - q[0, 0]),
+        })  # fmt: skip
+    return rows
+
+
+def references(flat: list[Path], seeds: list[int], backend) -> dict[str, list]:
+    """Per controller label, its row on every terrain of ``seeds``."""
+    p = lm.LocustParams()
+    rules = RuleController.for_model(p)
+    hybrids = {
+        "U_z < 0": RuleGetupController(rules, 0.0, 0.0),
+        "U_z < 0.5, I6 >= 0.8": RuleGetupController(rules, 0.5, 0.8),
+    }
+    getups = [rundir.load_run(r / "getup")[2].genome for r in flat]
+    out: dict[str, list] = {}
+    for s in seeds:
+        scene = Debris(seed=s)
+        starts = {"standing": ready_state(p, scene),
+                  "side": rolled_starts(p, (START_ROLL,), scene)}  # fmt: skip
+        for name, st in starts.items():
+            out.setdefault(f"rules ({name})", []).append(
+                episodes(
+                    rules, rules.params_for(DEFAULT_CHANGE_TIME), st, p, scene, backend
+                )[0]  # fmt: skip
+            )
+            for how, hybrid in hybrids.items():
+                params = np.concatenate(
+                    [hybrid.params_for(DEFAULT_CHANGE_TIME, g) for g in getups]
+                )
+                rows = episodes(hybrid, params, st, p, scene, backend)
+                for r, row in zip(flat, rows, strict=True):
+                    label = f"rules + flat getup {r.name}, {how} ({name})"
+                    out.setdefault(label, []).append(row)
+        for r in flat:
+            for stage in ("composed", "monolithic"):
+                cfg, beh, best = rundir.load_run(r / stage)
+                here = beh.on(scene)
+                row = episodes(here.controller, best.genome[None],
+                               here.start_states(p), p, scene, backend)[0]  # fmt: skip
+                out.setdefault(f"flat {stage} {r.name}, zero-shot", []).append(row)
+    return out
+
+
+def summary(label: str, rows: list[dict]) -> dict:
+    f = np.array([r["fitness"] for r in rows])
+    return {
+        "controller": label,
+        "median_fitness": float(np.median(f)),
+        "mean_fitness": float(f.mean()),
+        "jumps": float(np.mean([r["jumps"] for r in rows])),
+        "jumps_before_stuck": float(np.mean([r["jumps_before_stuck"] for r in rows])),
+        "overturned": float(np.mean([r["overturned"] for r in rows])),
+        "recovered": float(np.mean([r["recovered"] for r in rows])),
+        "distance_m": float(np.median([r["distance_m"] for r in rows])),
+    }
+
+
+def group_of(run: Path) -> str:
+    cfg = rundir.load_config(run / rundir.CONFIG)
+    if cfg.behaviour == "monolithic":
+        return "monolithic (debris)"
+    return "composed, flat simples" if "flat-simples" in str(run) else (
+        "composed, debris simples")  # fmt: skip
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--flat", nargs="*", type=Path, default=[],
+                    help="flat-floor reproductions (their getup, composed, "
+                    "monolithic)")  # fmt: skip
+    ap.add_argument(
+        "--runs",
+        nargs="*",
+        type=Path,
+        default=[],
+        help="debris-trained composed or monolithic runs",
+    )
+    ap.add_argument("--terrain-seeds", default="100-119")
+    ap.add_argument("--json", type=Path)
+    args = ap.parse_args(argv)
+    seeds = parse_seeds(args.terrain_seeds)
+    runs = [r for r in args.runs if rundir.is_run(r) and (r / rundir.BEST).is_file()]
+    backend = ThreadBackend()
+    table = [summary(k, v) for k, v in references(args.flat, seeds, backend).items()]
+    held: dict[str, list[float]] = {}
+    for r in runs:
+        te = evaluate_terrains(r, seeds, backend=backend)
+        rows = [{"fitness": f, **{k: m.get(k, 0) for k in
+                 ("jumps", "overturned", "recovered", "distance_m")},
+                 "jumps_before_stuck": 0} for f, m in zip(te.fitness, te.metrics,
+                                                          strict=True)]  # fmt: skip
+        row = summary(f"{group_of(r)}: {r}", rows)
+        row.update(
+            train_fitness=te.train_fitness,
+            gap=te.gap,
+            generations=len(rundir.read_metrics(r / rundir.METRICS)["best"]),
+        )
+        table.append(row)
+        held.setdefault(group_of(r), []).append(te.held_out)
+    print(f"Debris terrains {args.terrain_seeds} (never trained on); fitness: "
+          "Eq. 4 above the ground under the body (m x steps)\n")  # fmt: skip
+    print(
+        "| controller | median Σh | mean Σh | jumps | jumps before stuck | "
+        "overturned / recovered | distance (m) | training Σh | gap |"
+    )
+    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- |")
+    for x in table:
+        train = f"{x['train_fitness']:.0f}" if "train_fitness" in x else ""
+        gap = f"{x['gap']:.0f}" if x.get("gap") is not None else ""
+        print(f"| {x['controller']} | {x['median_fitness']:.0f} | "
+              f"{x['mean_fitness']:.0f} | {x['jumps']:.1f} | "
+              f"{x['jumps_before_stuck']:.1f} | {x['overturned']:.1f} / "
+              f"{x['recovered']:.1f} | {x['distance_m']:.2f} | {train} | "
+              f"{gap} |")  # fmt: skip
+    groups = sorted(held)
+    if groups:
+        print("\n| group | runs | held-out mean Σh per run | median |")
+        print("| --- | --- | --- | --- |")
+        for g in groups:
+            v = held[g]
+            print(f"| {g} | {len(v)} | {', '.join(f'{x:.0f}' for x in v)} | "
+                  f"{np.median(v):.0f} |")  # fmt: skip
+        for i, a in enumerate(groups):
+            for b in groups[i + 1 :]:
+                if len(held[a]) > 1 and len(held[b]) > 1:
+                    p = mannwhitneyu(held[a], held[b], alternative="two-sided").pvalue
+                    print(f"\nMann-Whitney U, {a} vs {b}: p = {p:.3f}")
+    if args.json:
+        args.json.parent.mkdir(parents=True, exist_ok=True)
+        args.json.write_text(json.dumps({"table": table, "held_out": held}, indent=1))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,126 @@
+"""Options that several commands share: the backend, the optimizer and engine,
+the creature's struts, and what each behaviour of ``train`` is."""
+
+from __future__ import annotations
+
+import argparse
+
+from locustjump.cli.argtypes import _int_at_least, _positive_float
+from locustjump.evo import optimizer_kinds
+from locustjump.sim.engine.backends import BACKENDS
+from locustjump.sim.engine.job import ENGINES
+from locustjump.sim.scene import scene_names
+from locustjump.tasks import behaviour_class, behaviour_names
+
+
+def strut_stiffness_arg(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--strut-stiffness",
+        type=_positive_float("--strut-stiffness", allow_zero=True),
+        default=0.0,
+        metavar="NM_PER_RAD",
+        help="fore and middle legs on sprung hinges of this stiffness at real "
+        "scale, e.g. 2e-4 (default 0: rigid struts, the trained creature)",
+    )
+
+
+def add_scene(
+    p: argparse.ArgumentParser, *, of_run: bool = False, train: bool = False
+) -> None:
+    """``--scene`` and ``--terrain-seed`` (``train``: also ``--terrains``)."""
+    own = "the run's own; " if of_run else ""
+    p.add_argument(
+        "--scene",
+        metavar="NAME|FILE",
+        help=f"the world: {' or '.join(scene_names())}, or a TOML file with a "
+        f"[scene] table (a run's config.toml is one) for its parameters "
+        f"(default: {own}flat, the paper's floor)",
+    )
+    p.add_argument(
+        "--terrain-seed",
+        type=_int_at_least("--terrain-seed", 0),
+        metavar="N",
+        help="the terrain of a seeded scene (debris), apart from the evolution's "
+        "--seed (default 0" + (", or the run's first training terrain" if of_run
+        else "") + (": training terrains N .. N+K-1" if train else "") + ")",
+    )  # fmt: skip
+    if train:
+        p.add_argument(
+            "--terrains",
+            type=_int_at_least("--terrains", 1),
+            metavar="K",
+            help="score every genome on K terrains (seeds from --terrain-seed), "
+            'fitness their mean ([scene] aggregate = "min": the worst); '
+            "default 1",
+        )
+
+
+def add_backend(p: argparse.ArgumentParser) -> None:
+
+    p.add_argument(
+        "--backend",
+        choices=BACKENDS,
+        default="threads",
+        help="where episodes run: threads on this machine or Ray tasks (default "
+        "threads; the result does not depend on it)",
+    )
+    p.add_argument(
+        "--threads",
+        type=_int_at_least("--threads", 1),
+        help="simulation threads (threads: default all CPUs; ray: per actor, "
+        "default 1); the result does not depend on it",
+    )
+    p.add_argument(
+        "--address",
+        metavar="HOST:PORT",
+        help="ray: the cluster to join ('auto': the one `ray start` made here; "
+        "default: a local Ray instance)",
+    )
+    p.add_argument(
+        "--actors",
+        type=_int_at_least("--actors", 1),
+        help="ray: how many actors (default: the cluster's CPUs / --threads)",
+    )
+
+
+def add_optimizer(p: argparse.ArgumentParser, default: str | None) -> None:
+
+    p.add_argument(
+        "--optimizer",
+        choices=optimizer_kinds(),
+        default=default,
+        help="rcga: the paper's GA (default); cma: CMA-ES (pycma); random: "
+        "random search" + ("" if default else "; --resume: the run's"),
+    )
+    p.add_argument(
+        "--engine",
+        choices=ENGINES,
+        help="how the controllers are computed between physics steps: numba "
+        "(compiled; the default for new runs) or numpy (the reference; runs "
+        "made before the compiled path); recorded in config.toml (default: "
+        "numba, or the run's when it continues one)",
+    )
+
+
+#: what each behaviour of ``train`` evolves (a registered one: its docstring)
+_BEHAVIOUR_HELP = {
+    "kick": "kick the ground: fitness max dx*dz over 300 steps (paper Eq. 1)",
+    "getup": "get up from 5 rolled start states: fitness mean U_z",
+    "return-legs": "return the hind legs to the ready posture",
+    "composed": "a switcher between 3 frozen runs (--kick, --getup, --return-legs)",
+    "monolithic": "beyond the paper: one network on the composed task",
+    "kick-apex": "beyond the paper: the kick, fitness the apex rise (m)",
+    "kick-open": "beyond the paper: the kick (Eq. 1) as an open-loop sequence of "
+    "target changes (240 genes) instead of a network",
+    "kick-apex-open": "beyond the paper: the apex rise, open-loop (240 genes)",
+}
+
+
+def behaviours_help() -> str:
+    """One line per behaviour of ``train``: its name and what it evolves."""
+    lines = ["behaviours:"]
+    for name in behaviour_names():
+        doc = (behaviour_class(name).__doc__ or "").strip().splitlines()
+        what = _BEHAVIOUR_HELP.get(name, doc[0] if doc else name)
+        lines.append(f"  {name}: {what}")
+    return "\n".join(lines)

@@ -1,0 +1,105 @@
+"""``checkpoint.npz``: the optimizer's state after the last generation, with
+the run's best genome and that generation's metrics row, so that a kill
+between two writes loses nothing. Read back only once every array is what
+was written and agrees with the run's ``config.toml``."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from locustjump.errors import UserError
+from locustjump.rundir.arrays import genomes, plain, scalar
+from locustjump.rundir.files import save_npz
+from locustjump.rundir.layout import CONFIG, FORMAT
+from locustjump.rundir.migrations import (
+    RCGA_STATE_BEFORE,
+    STATE_PREFIX,
+    checkpoint_optimizer,
+    checkpoint_state,
+)
+from locustjump.rundir.reads import load_npz
+from locustjump.rundir.run import BestGenome
+
+_CHECKPOINT_KEYS = (
+    "format",
+    "behaviour",
+    "config_hash",
+    "best_genome",
+    "best_fitness",
+    "best_generation",
+    "metrics_row",
+)
+
+
+def write_checkpoint(
+    path: Path, cfg, best: BestGenome, metrics_row: str, state: dict[str, np.ndarray]
+) -> None:
+    """The optimizer's ``state`` plus the run's best genome and the metrics row
+    of the checkpointed generation (a kill between two writes loses nothing)."""
+    save_npz(
+        path,
+        format=np.array(FORMAT),
+        behaviour=np.array(cfg.behaviour),
+        config_hash=np.array(cfg.hash()),
+        optimizer=np.array(cfg.optimizer.kind),
+        best_genome=best.genome,
+        best_fitness=np.array(best.fitness),
+        best_generation=np.array(best.generation),
+        metrics_row=np.array(metrics_row),
+        **{STATE_PREFIX + k: v for k, v in state.items()},
+    )
+
+
+def read_checkpoint(path: Path, cfg, num_params: int):
+    """``(best, metrics_row, state)`` of ``checkpoint.npz``, checked against the
+    configuration ``cfg`` (``UserError`` naming the file): every array of the
+    dtype and shape written, finite, of this run, the best genome and the
+    metrics row of a generation it has done. Older checkpoints through
+    :mod:`~locustjump.rundir.migrations`; the optimizer checks its own state
+    (``Optimizer.load_state``)."""
+    z = load_npz(
+        path,
+        _CHECKPOINT_KEYS,
+        optional=("optimizer", *RCGA_STATE_BEFORE),
+        prefix=STATE_PREFIX,
+    )
+    state = checkpoint_state(z, path)
+    behaviour = scalar(z, "behaviour", path, "U")
+    if behaviour != cfg.behaviour:
+        raise UserError(f"{path}: holds a {behaviour!r} run, not {cfg.behaviour!r}")
+    kind = checkpoint_optimizer(z)
+    if kind != cfg.optimizer.kind:
+        raise UserError(
+            f"{path}: was written by the {kind!r} optimizer, the run's "
+            f"{CONFIG} names {cfg.optimizer.kind!r}"
+        )
+    if scalar(z, "config_hash", path, "U") != cfg.hash():
+        raise UserError(
+            f"{path}: was written by another configuration (hash "
+            f"{z['config_hash']}, {CONFIG} has {cfg.hash()})"
+        )
+    if "generation" not in state:
+        raise UserError(f"{path}: missing {STATE_PREFIX}generation")
+    plain(state, sorted(state), path)
+    generation = scalar(state, "generation", path, "i")
+    best = BestGenome(
+        genomes(z, "best_genome", path, (num_params,)),
+        scalar(z, "best_fitness", path, "f"),
+        scalar(z, "best_generation", path, "i"),
+        cfg.behaviour,
+        cfg.hash(),
+    )
+    if not 1 <= best.generation <= generation:
+        raise UserError(
+            f"{path}: best_generation {best.generation} is not one of the "
+            f"{generation} generations it has done"
+        )
+    row = scalar(z, "metrics_row", path, "U")
+    if not row.endswith("\n") or row.split(",")[0] != str(generation):
+        raise UserError(
+            f"{path}: metrics_row is not the row of generation {generation}: "
+            f"{row.strip()[:60]!r}"
+        )
+    return best, row, state

@@ -1,0 +1,313 @@
+"""The debris scene: seeded terrains, the ground under the body, the physics
+gates on rubble, training on several terrains and testing on unseen ones."""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import json
+from types import SimpleNamespace
+
+import mujoco
+import numpy as np
+import pytest
+
+from locustjump import rundir
+from locustjump.cli import main
+from locustjump.errors import UserError
+from locustjump.rundir.config import TrainConfig
+from locustjump.sim import model as lm
+from locustjump.sim.analysis import clearance, find_jumps, stuck_overturned
+from locustjump.sim.engine.rollout import StartStates, rollout
+from locustjump.sim.scene import MAX_BOXES, Debris, Flat, Terrains
+from locustjump.tasks import get_behaviour
+from locustjump.tasks.reference import rules_outcome, run_rules
+from locustjump.tasks.rules import RuleController
+from locustjump.tasks.starts import ready_state
+
+P = lm.LocustParams()
+BL = P.body_length
+
+
+def run_cli(*argv: str) -> SimpleNamespace:
+    """``locustjump ARGV`` in this process: its exit status and output."""
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        try:
+            code = main(list(argv))
+        except SystemExit as e:
+            code = e.code
+    return SimpleNamespace(
+        returncode=code, stdout=out.getvalue(), stderr=err.getvalue()
+    )
+
+
+def test_a_terrain_is_its_seed():
+    a, b = Debris(seed=1).boxes(BL), Debris(seed=1).boxes(BL)
+    np.testing.assert_array_equal(a, b)
+    assert not np.array_equal(a, Debris(seed=2).boxes(BL))
+    assert Debris(seed=1).with_seed(5) == Debris(seed=5)
+    assert Flat().with_seed(5) == Flat()
+
+
+def test_heights_are_the_box_tops_and_the_clearing_is_free():
+    d = Debris(seed=4)
+    boxes = d.boxes(BL)
+    assert len(boxes) > 50
+    top = d.heights(boxes[:, 0], boxes[:, 1], BL)
+    # at a box's centre the ground is at least that box's top (boxes overlap)
+    assert (top >= boxes[:, 5] - 1e-12).all()
+    r = np.linspace(0, d.clearing * BL * 0.99, 30)
+    assert (d.heights(r, 0 * r, BL) == 0).all() and (d.heights(0 * r, r, BL) == 0).all()
+    far = d.heights(np.array([-50.0, 200.0]), np.array([0.0, 0.0]), BL)
+    assert (far == 0).all()
+    assert Flat().heights(np.ones(3), np.ones(3), BL).tolist() == [0, 0, 0]
+
+
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        ({"spacing": 0.0}, "spacing"),
+        ({"height_max": 0.01}, "height_max"),
+        ({"friction": 0.0}, "friction"),
+        ({"seed": -1}, "seed"),
+        ({"spacing": 0.02}, f"at most {MAX_BOXES:,}"),
+        ({"length": 1000, "width": 1000, "spacing": 100}, "too large"),
+    ],
+)
+def test_bad_debris_parameters_are_named(change, message):
+    with pytest.raises(ValueError, match=message):
+        Debris(**change)
+
+
+def test_the_boxes_collide_with_the_creature_only():
+    m = lm.load_model(P, Debris())
+    boxes = [i for i in range(m.ngeom) if m.geom(i).name.startswith("debris")]
+    creature = m.geom_bodyid != 0
+    assert len(boxes) == len(Debris().boxes(BL))
+    assert (m.geom_contype[boxes] == 0).all() and (m.geom_conaffinity[boxes] == 1).all()
+    assert (m.geom_contype[creature] == 1).all()
+    assert (m.geom_conaffinity[creature] == 0).all()  # never with each other
+    flat = lm.load_model(P)
+    assert (flat.geom_contype == 0).all()  # the floor's model is as before
+    assert m.npair == flat.npair
+
+
+def test_start_states_are_upright_and_at_rest_on_the_terrain():
+    for seed in range(3):
+        s = ready_state(P, Debris(seed=seed))
+        m = lm.load_model(P, Debris(seed=seed))
+        d = mujoco.MjData(m)
+        d.qpos[:], d.qvel[:] = s.qpos[0], s.qvel[0]
+        mujoco.mj_forward(m, d)
+        assert d.xmat[1].reshape(3, 3)[2, 2] > 0.95  # upright
+        assert np.abs(d.qvel).max() < 1e-2
+    np.testing.assert_array_equal(
+        ready_state(P).qpos, StartStates.ready(lm.load_model(P)).qpos
+    )
+
+
+def _replay_penetration(p: lm.LocustParams, scene: Debris, ctrl: np.ndarray, start):
+    """Replay recorded servo targets open loop; the deepest contact (m), the
+    final state and MuJoCo's warnings."""
+    m = lm.load_model(p, scene)
+    d = mujoco.MjData(m)
+    d.qpos[:], d.qvel[:], d.ctrl[:] = start.qpos[0], start.qvel[0], start.ctrl[0]
+    pen = 0.0
+    for c in ctrl[1:]:
+        d.ctrl[:] = c
+        for _ in range(p.substeps):
+            mujoco.mj_step(m, d)
+            if d.ncon:
+                pen = max(pen, float(-d.contact.dist[: d.ncon].min()))
+    return pen, d
+
+
+@pytest.mark.parametrize("substeps", [3, 12])
+def test_gates_hold_on_debris(substeps):
+    """Rule-based and random controllers on rubble, at the model's 3 substeps and
+    at 12: no blow-up, finite states, contacts shallower than 5 % of a body
+    length (the flat floor's gate 5)."""
+    p = P.replace(substeps=substeps)
+    rc = RuleController.for_model(p)
+    worst = 0.0
+    for seed in range(3):
+        scene = Debris(seed=seed)
+        start = ready_state(p, scene)
+        res = rollout(
+            rc, rc.params_for(np.array([0.2, 0.5, 0.9])), start, 1200,
+            model_params=p, record=("qpos", "ctrl"), scene=scene,
+        )  # fmt: skip
+        assert not res.unstable.any() and np.isfinite(res["qpos"]).all()
+        pen, d = _replay_penetration(p, scene, res["ctrl"][1], start)
+        np.testing.assert_allclose(d.qpos, res["qpos"][1, -1], atol=1e-9)
+        assert d.warning.number.sum() == 0
+        worst = max(worst, pen)
+    assert worst < 0.05 * BL
+
+
+def test_rules_on_debris_overturn_for_good_and_report_it():
+    """The paper's motivation: on rubble the rules overturn and cannot get up."""
+    stuck = []
+    for seed in range(4):
+        r = run_rules(steps=3000, model_params=P, scene=Debris(seed=seed))
+        out = rules_outcome(r, P)
+        assert out["jumps_before_stuck"] <= out["jumps"]
+        stuck.append(out["stuck_overturned_s"] is not None)
+    assert sum(stuck) >= 2
+    flat = rules_outcome(run_rules(steps=3000, model_params=P), P)
+    assert flat["jumps"] == 11 and flat["jumps_before_stuck"] == 11
+
+
+def test_stuck_overturned_ignores_somersaults():
+    uz = np.ones(400)
+    uz[50:90] = -1.0  # a somersault in flight: 1/3 s
+    assert stuck_overturned(uz) is None
+    uz[200:] = -0.5
+    assert stuck_overturned(uz) == 200
+
+
+def test_height_is_measured_above_the_ground_under_the_body():
+    """Standing on a box earns no more than standing on the floor."""
+    scene = Debris(seed=0)
+    x, y, _, _, _, h = scene.boxes(BL)[0]
+    stand = 0.07
+    qpos = np.zeros((2, 5, 7))
+    qpos[0, :, :3] = [x, y, h + stand]  # on the box
+    qpos[1, :, :3] = [0.0, 0.0, stand]  # in the clearing
+    c = clearance(qpos, P, scene)
+    np.testing.assert_allclose(c, stand, atol=1e-12)
+    np.testing.assert_array_equal(clearance(qpos, P, Flat()), qpos[..., 2])
+    flat_jumps = find_jumps(qpos[0], P)  # on the flat floor the box top is a jump
+    assert find_jumps(qpos[0], P, scene) == [] and len(flat_jumps) == 1
+
+
+def test_several_terrains_score_the_mean_or_the_worst():
+    t = Terrains(Debris(seed=7), 2)
+    assert [s.seed for s in t.scenes] == [7, 8]
+    beh = get_behaviour("kick", terrains=t)
+    g = beh.controller.random_genomes(np.random.default_rng(0), 3, scale=1.0)
+    fit, res = beh.evaluate(g, P)
+    each = [beh.on(s).evaluate(g, P)[0] for s in t.scenes]
+    np.testing.assert_array_equal(fit, (each[0] + each[1]) / 2)
+    assert res.control_steps == 2 * 3 * beh.n_steps
+    worst = get_behaviour("kick", terrains=Terrains(Debris(seed=7), 2, "min"))
+    np.testing.assert_array_equal(worst.evaluate(g, P)[0], np.minimum(*each))
+    with pytest.raises(ValueError, match="one terrain"):
+        Terrains(Flat(), 2)
+
+
+def test_scene_config_is_recorded_hashed_and_checked(tmp_path):
+    assert TrainConfig().hash() == "1c1e0a431ebc3af3"  # flat runs keep theirs
+    cfg = TrainConfig(scene=Terrains(Debris(seed=3, spacing=1.5), 4, "min"))
+    d = cfg.to_dict()
+    assert d["scene"]["kind"] == "debris" and d["scene"]["terrains"] == 4
+    assert TrainConfig.from_dict(d, "x") == cfg
+    assert cfg.hash() != TrainConfig().hash()
+    assert (
+        cfg.replace(scene=Terrains(Debris(seed=4, spacing=1.5), 4, "min")).hash()
+        != cfg.hash()
+    )
+    for table, message in [
+        ({"kind": "lava"}, "unknown scene 'lava'"),
+        ({"kind": "debris", "bogus": 1}, "unknown key 'scene.bogus'"),
+        ({"kind": "debris", "spacing": -1}, r"\[scene\] spacing"),
+        ({"kind": "debris", "terrains": 0}, "terrains must be"),
+        ({"kind": "debris", "seed": 2**64}, "seed"),
+    ]:
+        with pytest.raises(UserError, match=message):
+            TrainConfig.from_dict({"scene": table}, "cfg.toml")
+
+
+@pytest.fixture(scope="module")
+def debris_run(tmp_path_factory):
+    out = tmp_path_factory.mktemp("debris") / "kick"
+    r = run_cli(
+        "train", "kick", "--scene", "debris", "--terrain-seed", "10", "--terrains",
+        "2", "--population", "4", "--generations", "2", "--threads", "2",
+        "--quiet", "--out", str(out),
+    )  # fmt: skip
+    assert r.returncode == 0, r.stderr
+    return out
+
+
+def test_training_on_debris_is_deterministic(debris_run, tmp_path):
+    cfg = rundir.load_config(debris_run / rundir.CONFIG)
+    assert cfg.scene == Terrains(Debris(seed=10), 2)
+    other = tmp_path / "again"
+    r = run_cli(
+        "train", "kick", "--config", str(debris_run / rundir.CONFIG),
+        "--threads", "1", "--quiet", "--out", str(other),
+    )  # fmt: skip
+    assert r.returncode == 0, r.stderr
+    a = np.load(debris_run / rundir.BEST)
+    b = np.load(other / rundir.BEST)
+    np.testing.assert_array_equal(a["genome"], b["genome"])
+    assert float(a["fitness"]) == float(b["fitness"])
+
+
+def test_a_run_on_two_terrains_re_simulates_to_its_fitness(tmp_path):
+    """Evaluated, a run's fitness is again the mean over its terrains; its
+    figures are of the first (five get-up start states, not ten)."""
+    out = tmp_path / "getup"
+    r = run_cli(
+        "train", "getup", "--scene", "debris", "--terrains", "2", "--population",
+        "4", "--generations", "1", "--quiet", "--out", str(out),
+    )  # fmt: skip
+    assert r.returncode == 0, r.stderr
+    r = run_cli("evaluate", str(out), "--json")
+    assert r.returncode == 0, r.stderr
+    assert json.loads(r.stdout)["fitness_matches"]
+
+
+def test_evaluate_on_unseen_terrains_prints_the_gap(debris_run):
+    r = run_cli("evaluate", str(debris_run), "--terrain-seeds", "10-12", "--json")
+    assert r.returncode == 0, r.stderr
+    te = json.loads(r.stdout)
+    assert [t["seed"] for t in te["terrains"]] == [10, 11, 12]
+    assert [t["trained"] for t in te["terrains"]] == [True, True, False]
+    trained = [t["fitness"] for t in te["terrains"][:2]]
+    assert np.mean(trained) == te["train_fitness"]  # the recorded aggregate
+    assert te["held_out_fitness"] == te["terrains"][2]["fitness"]
+    assert te["generalisation_gap"] == te["train_fitness"] - te["held_out_fitness"]
+    r = run_cli("evaluate", str(debris_run), "--terrain-seeds", "12")
+    assert r.returncode == 0 and "generalisation gap" in r.stdout
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--terrain-seeds", "x"], "--terrain-seeds"),
+        (["--scene", "lava"], "--scene: unknown scene 'lava'"),
+        (["--scene", "flat", "--terrain-seed", "3"], "--terrain-seed"),
+    ],
+)
+def test_bad_scene_options_are_one_line(debris_run, args, message):
+    before = sorted(p.name for p in debris_run.rglob("*"))
+    r = run_cli("evaluate", str(debris_run), *args)
+    assert r.returncode == 2 and message in r.stderr
+    assert len(r.stderr.strip().splitlines()) == 1
+    assert sorted(p.name for p in debris_run.rglob("*")) == before
+
+
+def test_bad_scene_for_training_writes_nothing(tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text('[scene]\nkind = "debris"\nspacing = 0.01\n')
+    for args in (["--scene", str(bad)], ["--scene", "flat", "--terrains", "3"]):
+        r = run_cli("train", "kick", *args, "--out", str(tmp_path / "run"))
+        assert r.returncode == 2, r.stderr
+        assert len(r.stderr.strip().splitlines()) == 1
+        assert not (tmp_path / "run").exists()
+
+
+def test_model_and_rules_take_a_scene(tmp_path):
+    r = run_cli("model", "--scene", "debris", "--terrain-seed", "2",
+                "--out", str(tmp_path / "m.xml"))  # fmt: skip
+    assert r.returncode == 0, r.stderr
+    m = mujoco.MjModel.from_xml_path(str(tmp_path / "m.xml"))
+    assert m.ngeom == lm.load_model(P, Debris(seed=2)).ngeom
+    r = run_cli("rules", "--scene", "debris", "--steps", "600", "--out",
+                str(tmp_path / "rules"))  # fmt: skip
+    assert r.returncode == 0, r.stderr
+    summary = json.loads((tmp_path / "rules" / rundir.RULES_SUMMARY).read_text())
+    assert summary["scene"]["kind"] == "debris" and "jumps_before_stuck" in summary

@@ -1,0 +1,151 @@
+"""Ctrl-C anywhere in the first generation of ``train``, and unexpected errors:
+one line, exit 130 (1 for a bug), and the same command (or ``--resume``)
+continues to the result of an uninterrupted run, bit for bit."""
+
+import errno
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from helpers import assert_same_run
+from locustjump import rundir
+from locustjump.cli import main
+from locustjump.sim.engine.backends import ThreadBackend
+
+
+def _argv(out: Path, resume: bool = False) -> list[str]:
+    return ["train", "kick", "--population", "4", "--generations", "2", "--seed",
+            "3", "--threads", "1", "--quiet", "--out", str(out),
+            *(["--resume"] if resume else [])]  # fmt: skip
+
+
+@pytest.fixture(scope="module")
+def reference(tmp_path_factory) -> Path:
+    out = tmp_path_factory.mktemp("ref") / "run"
+    assert main(_argv(out)) == 0
+    return out
+
+
+def _interrupt_on_call(
+    monkeypatch, owner, name: str, n: int, error: object = KeyboardInterrupt
+) -> None:
+    """Ctrl-C (or ``error``) arriving in the ``n``-th call of ``owner.name``."""
+    real = getattr(owner, name)
+    calls = []
+
+    def once(*args, **kwargs):
+        calls.append(1)
+        if len(calls) == n:
+            raise error
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(owner, name, once)
+
+
+# every write of the first generation: config.toml, metrics.csv's header,
+# best.npz, checkpoint.npz (each through one fsync), and the simulation itself
+MOMENTS = [("fsync", 1), ("fsync", 2), ("fsync", 3), ("fsync", 4), ("run", 1)]
+
+
+@pytest.mark.parametrize(("where", "n"), MOMENTS)
+def test_ctrl_c_in_the_first_generation_continues_bit_identically(
+    tmp_path, capsys, monkeypatch, reference, where, n
+):
+    out = tmp_path / "run"
+    with monkeypatch.context() as m:
+        if where == "fsync":
+            _interrupt_on_call(m, os, "fsync", n)
+        else:
+            _interrupt_on_call(m, ThreadBackend, "run", n)
+        assert main(_argv(out)) == 130
+    _continues(out, capsys.readouterr().err, reference)
+
+
+@pytest.mark.parametrize("n", [1, 2, 3, 4])
+def test_a_full_disk_in_the_first_generation_is_one_line_and_continues(
+    tmp_path, capsys, monkeypatch, reference, n
+):
+    """The disk fills at the n-th write (config.toml, metrics.csv, best.npz,
+    checkpoint.npz): one line naming the file, exit 2; then as after Ctrl-C."""
+    out = tmp_path / "run"
+    full = OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+    with monkeypatch.context() as m:
+        _interrupt_on_call(m, os, "fsync", n, full)
+        assert main(_argv(out)) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and "No space left on device" in err
+    written = (rundir.CONFIG, rundir.METRICS, rundir.BEST, rundir.CHECKPOINT)
+    assert f"{out / written[n - 1]}: cannot be written" in err, err
+    assert not [p for p in out.rglob(".*")]  # no temporary file left
+    if n <= 2:  # the new run could not be made: nothing is left
+        assert not out.exists()
+        assert main(_argv(out)) == 0
+    else:
+        assert main(_argv(out, resume=True)) == 0
+    assert_same_run(reference, out)
+
+
+def _continues(out: Path, err: str, reference: Path) -> None:
+    """The one line of an interrupted ``train``, and what it says goes on to
+    the uninterrupted result."""
+    assert len(err.strip().splitlines()) == 1 and "interrupted" in err, err
+    assert not [p for p in out.rglob(".*")]  # no temporary file left
+    if rundir.is_run(out):  # config.toml was written: --resume goes on
+        assert "rerun it with --resume" in err
+        assert main(_argv(out, resume=True)) == 0
+    else:  # stopped before: nothing is left, the same command starts it
+        assert "rerun the same command" in err and not out.exists()
+        assert main(_argv(out)) == 0
+    assert_same_run(reference, out)
+
+
+def _spawn(argv: list[str]) -> subprocess.Popen:
+    return subprocess.Popen(
+        [sys.executable, "-m", "locustjump.cli", *argv],
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+
+
+def test_a_real_sigint_while_loading_and_in_generation_one(tmp_path, reference):
+    # while the command still loads MuJoCo, Numba and Matplotlib
+    proc = _spawn(_argv(tmp_path / "early"))
+    time.sleep(0.5)
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 130, err
+    assert len(err.strip().splitlines()) == 1 and "interrupted" in err, err
+    assert not (tmp_path / "early").exists()
+    # as config.toml, and then metrics.csv, appear: within the first generation
+    for i, name in enumerate((rundir.CONFIG, rundir.METRICS)):
+        out = tmp_path / f"run{i}"
+        proc = _spawn(_argv(out))
+        deadline = time.monotonic() + 60
+        while not (out / name).exists() and time.monotonic() < deadline:
+            time.sleep(0.002)
+        proc.send_signal(signal.SIGINT)
+        _, err = proc.communicate(timeout=60)
+        assert proc.returncode == 130, err
+        _continues(out, err, reference)
+
+
+def test_an_unexpected_error_is_one_line_with_a_log(tmp_path, capsys, monkeypatch):
+    def bug(*args, **kwargs):
+        raise KeyError("no such thing")
+
+    out = tmp_path / "run"
+    monkeypatch.setattr(ThreadBackend, "run", bug)
+    assert main(_argv(out)) == 1
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1, err
+    assert "train failed unexpectedly (KeyError" in err and "Traceback" not in err
+    log = out / "locustjump-error.log"
+    assert str(log) in err and "Traceback" in log.read_text()
+    # --debug, anywhere: the traceback on stderr as well
+    assert main(["--debug", *_argv(tmp_path / "other")]) == 1
+    assert "Traceback" in capsys.readouterr().err
