@@ -13,9 +13,9 @@ from locustjump.runs.trainer import train
 from locustjump.sim.engine.rollout import RolloutResult
 from locustjump.sim.sensors import up_axis_in_body
 from locustjump.tasks import get_behaviour
-from locustjump.tasks.starts import settle
 from locustjump.tasks.getup import TRAIN_ROLLS, rolled_starts, sweep_angles
 from locustjump.tasks.return_legs import extended_start
+from locustjump.tasks.starts import settle
 
 
 def test_settle_is_deterministic(params):
