@@ -12,12 +12,21 @@ import mujoco
 import numpy as np
 import pytest
 
+from helpers import TINY_GENERATIONS
 from locustjump import rundir
 from locustjump.cli import main
 from locustjump.errors import UserError
+from locustjump.present import report
 from locustjump.rundir.config import TrainConfig
+from locustjump.runs import reproduction
+from locustjump.runs.reproduce import Budget, reproduce
 from locustjump.sim import model as lm
-from locustjump.sim.analysis import clearance, find_jumps, stuck_overturned
+from locustjump.sim.analysis import (
+    clearance,
+    find_jumps,
+    ground_profile,
+    stuck_overturned,
+)
 from locustjump.sim.engine.rollout import StartStates, rollout
 from locustjump.sim.scene import MAX_BOXES, Debris, Flat, Terrains
 from locustjump.tasks import get_behaviour
@@ -182,6 +191,24 @@ def test_height_is_measured_above_the_ground_under_the_body():
     assert find_jumps(qpos[0], P, scene) == [] and len(flat_jumps) == 1
 
 
+def test_the_figures_draw_the_ground_under_the_path():
+    """The trajectory figure's profile is the terrain's height along the
+    path, from behind its start to beyond its end; none on the flat floor."""
+    scene = Debris(seed=0)
+    boxes = scene.boxes(BL)
+    x0, y0 = boxes[0, :2]
+    qpos = np.zeros((50, 7))  # a path across box 0, along its y
+    qpos[:, 0] = np.linspace(x0 - 1.0, x0 + 1.0, 50)
+    qpos[:, 1] = y0
+    x, h = ground_profile(qpos, P, scene)
+    assert x[0] == pytest.approx(x0 - 1.0 - BL / 2) and x[-1] == pytest.approx(
+        x0 + 1.0 + BL / 2
+    )
+    np.testing.assert_array_equal(h, scene.heights(x, np.full_like(x, y0), BL))
+    assert h.max() >= boxes[0, 5] - 1e-9  # the box is under the path
+    assert ground_profile(qpos, P, Flat()) is None
+
+
 def test_several_terrains_score_the_mean_or_the_worst():
     t = Terrains(Debris(seed=7), 2)
     assert [s.seed for s in t.scenes] == [7, 8]
@@ -311,3 +338,37 @@ def test_model_and_rules_take_a_scene(tmp_path):
     assert r.returncode == 0, r.stderr
     summary = json.loads((tmp_path / "rules" / rundir.RULES_SUMMARY).read_text())
     assert summary["scene"]["kind"] == "debris" and "jumps_before_stuck" in summary
+
+
+def test_a_reproduction_on_debris_reports_the_held_out_terrains(tmp_path, monkeypatch):
+    """``reproduce --scene debris`` scores every stage's best genome on
+    terrains training never saw; results.md (and so report.html) shows them."""
+    monkeypatch.setattr(reproduction, "HELD_OUT_SEEDS", (100, 101))
+    out = tmp_path / "r"
+    reproduce(out, budget=Budget("tiny", 4, TINY_GENERATIONS), seed=0,
+              progress=False, log=lambda s: None, videos=False, monolithic=False,
+              terrains=Terrains(Debris(seed=5)))  # fmt: skip
+    md = (out / rundir.RESULTS).read_text()
+    section = md.split("## On terrains training never saw", 1)[1].split("\n## ", 1)[0]
+    assert "debris terrains 100, 101" in section
+    rows = [ln for ln in section.splitlines() if ln.startswith("| ")][2:]
+    assert [r.split(" | ")[0] for r in rows] == [
+        "| kick", "| getup", "| return-legs", "| composed",
+    ]  # fmt: skip
+    held = rundir.read_json(rundir.eval_metrics_path(out / "composed"))["held_out"]
+    assert [t["seed"] for t in held["terrains"]] == [100, 101]
+    assert held["train_fitness"] == rundir.load_run(out / "composed")[2].fitness
+    assert held["held_out_fitness"] == np.mean([t["fitness"] for t in held["terrains"]])
+    assert f"{held['held_out_fitness']:.4g}" in rows[3]
+    html = (out / rundir.REPORT).read_text()
+    assert "On terrains training never saw" in html
+
+
+def test_the_report_of_a_debris_run_shows_the_held_out_table(
+    debris_run, tmp_path, monkeypatch
+):
+    monkeypatch.setattr(report, "HELD_OUT_SEEDS", (11, 12))  # 11 trained on
+    page = report.write_report(debris_run, out=tmp_path / "report.html")
+    html = page.read_text()
+    assert "On terrains training never saw" in html and "debris terrains 12" in html
+    assert "<td>kick</td>" in html

@@ -115,6 +115,12 @@ def _write(
     return Evaluation(cfg.behaviour, fitness, best.fitness, metrics, files, elsewhere)
 
 
+#: Terrain seeds a reproduction and a run's report score the best genome on
+#: when it trained on a terrain (none of them a training terrain by default:
+#: training uses seeds from 0).
+HELD_OUT_SEEDS: tuple[int, ...] = tuple(range(100, 120))
+
+
 @dataclass
 class TerrainEvaluation:
     """A run's best genome re-scored terrain by terrain (:func:`evaluate_terrains`)."""

@@ -34,16 +34,27 @@ def _finish(fig, ax, path: Path, title: str, *, legend: str) -> None:
     _save(fig, path)
 
 
+#: (x, h): the ground's height (m) under a path (:func:`ground_profile`).
+Ground = tuple[np.ndarray, np.ndarray]
+
+
 def _plot_trajectories(
-    ax, curves: list[tuple[str, np.ndarray, list[Jump]]], lw: float = 1.4
+    ax,
+    curves: list[tuple[str, np.ndarray, list[Jump]]],
+    lw: float = 1.4,
+    ground: Ground | None = None,
 ) -> None:
-    """Height z vs distance x per curve, apexes marked."""
+    """Height z vs distance x per curve, apexes marked; under them, filled,
+    the terrain's profile if there is one."""
+    if ground is not None:
+        ax.fill_between(*ground, color="0.55", alpha=0.6, lw=0, step="mid",
+                        label="ground under the path")  # fmt: skip
     for label, qpos, jumps in curves:
         (line,) = ax.plot(qpos[:, 0], qpos[:, 2], lw=lw, label=label)
         if jumps:
             ax.plot(
                 [j.apex_x for j in jumps],
-                [j.apex_height for j in jumps],
+                [qpos[j.apex_step, 2] for j in jumps],
                 "v",
                 color=line.get_color(),
                 ms=6,
@@ -59,6 +70,7 @@ def trajectory_figure(
     curves: list[tuple[str, np.ndarray, list[Jump]]],
     *,
     title: str = "",
+    ground: Ground | None = None,
 ) -> None:
     """Height z vs distance x (the paper's Fig. 5/7), apexes marked.
 
@@ -66,9 +78,11 @@ def trajectory_figure(
       path: the PNG to write.
       curves: (label, qpos (T, nq), jumps) per trajectory.
       title: figure title.
+      ground: the terrain's profile under the first path (drawn filled), or
+        None on the flat floor.
     """
     fig, ax = plt.subplots(figsize=(9, 3.6), constrained_layout=True)
-    _plot_trajectories(ax, curves)
+    _plot_trajectories(ax, curves, ground=ground)
     _finish(fig, ax, path, title, legend="upper right")
 
 
@@ -98,6 +112,7 @@ def composed_figure(
     names: tuple[str, ...],
     *,
     title: str = "",
+    ground: Ground | None = None,
 ) -> None:
     """The paper's Fig. 12: trajectories (z vs x) and, under them, the simple
     behaviour selected at each control step of the first curve.
@@ -109,6 +124,7 @@ def composed_figure(
       selected: (T,) index into ``names`` per control step, or None.
       names: the simple behaviours' names.
       title: figure title.
+      ground: the terrain's profile under the first path, or None.
     """
 
     rows = 2 if selected is not None else 1
@@ -121,7 +137,7 @@ def composed_figure(
         squeeze=False,
     )
     ax = axes[0, 0]
-    _plot_trajectories(ax, curves, lw=1.2)
+    _plot_trajectories(ax, curves, lw=1.2, ground=ground)
     ax.grid(alpha=0.3)
     ax.legend(loc="upper right", fontsize=8)
     if title:

@@ -23,7 +23,8 @@ from markdown_it.token import Token
 
 from locustjump import rundir
 from locustjump.errors import UserError
-from locustjump.present.evaluate import evaluate_run
+from locustjump.present.evaluate import HELD_OUT_SEEDS, evaluate_run, evaluate_terrains
+from locustjump.present.results import held_out_markdown
 from locustjump.version import __version__
 
 if TYPE_CHECKING:
@@ -296,6 +297,10 @@ def _write_report(d: Path, backend: Backend | None, page: Path) -> Path:
                 **ev.metrics,
             }
             body = [_run_section(d, metrics, eval_dir=Path(tmp))]
+        if not rundir.load_config(d / rundir.CONFIG).scene.scene.is_flat:
+            te = evaluate_terrains(d, list(HELD_OUT_SEEDS), backend=backend)
+            md = held_out_markdown({ev.behaviour: te.to_dict()})
+            body.append(markdown_to_html("\n".join(md), d))
         title = f"locustjump run: {d.name} ({ev.behaviour})"
     else:
         raise UserError(f"{d}: holds no run (no {rundir.CONFIG}) and no reproduction")

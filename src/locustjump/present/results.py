@@ -106,6 +106,13 @@ def results_markdown(out: Path) -> str:
     lines += ["", *_whys(failed)]
     for beh in behaviours.values():
         lines += beh.report_section(info)
+    lines += held_out_markdown(
+        {
+            s: i["record"]["held_out"]
+            for s, i in info.items()
+            if "held_out" in i["record"]
+        }
+    )
     lines += _budget_table(marker, rules, info)
     lines += ["## Figures", ""]
     figures = [
@@ -201,6 +208,63 @@ def _spread(values: list[float]) -> str:
         return "n/a"
     v = np.asarray(values, dtype=float)
     return f"{_num(float(np.median(v)))} [{_num(v.min())}, {_num(v.max())}]"
+
+
+def _seeds(seeds: list[int]) -> str:
+    """``100-119`` for a contiguous range, else the seeds listed."""
+    if seeds == list(range(seeds[0], seeds[0] + len(seeds))) and len(seeds) > 2:
+        return f"{seeds[0]}-{seeds[-1]}"
+    return ", ".join(map(str, seeds))
+
+
+def held_out_markdown(records: dict[str, dict[str, Any]]) -> list[str]:
+    """The section on terrains training never saw: per stage (name ->
+    :meth:`TerrainEvaluation.to_dict`) the training fitness, the held-out one
+    and the generalisation gap, and over the held-out terrains the median and
+    range of the fitness, of the jumps and of the falls and recoveries."""
+    if not records:
+        return []
+    first = next(iter(records.values()))
+    seeds = [t["seed"] for t in first["terrains"] if not t["trained"]]
+    if not seeds:
+        return []
+    lines = [
+        "## On terrains training never saw",
+        "",
+        f"Each best genome re-scored on {first['scene']} terrains "
+        f"{_seeds(seeds)}, none of them a training terrain (`locustjump evaluate "
+        f"DIR --terrain-seeds {_seeds(seeds).replace(', ', ',')}` prints them "
+        "one by one). Held out: the training aggregate "
+        f"({first['aggregate']}) over them; gap: the training fitness minus it.",
+        "",
+        "| controller | training fitness | held out | per terrain: median [min, max] "
+        "| gap | jumps | overturned / recovered |",
+        "| --- | --- | --- | --- | --- | --- | --- |",
+    ]
+    for stage, r in records.items():
+        held = [t for t in r["terrains"] if not t["trained"]]
+        ms = [t["metrics"] for t in held]
+
+        def spread(key: str, ms: list[dict[str, Any]] = ms) -> str:
+            v = [m[key] for m in ms if isinstance(m.get(key), int | float)]
+            return _spread(v) if len(v) == len(ms) else "n/a"
+
+        falls = (
+            f"{spread('overturned')} / {spread('recovered')}"
+            if all("overturned" in m for m in ms)
+            else "n/a"
+        )
+        lines.append(
+            f"| {stage} | {r['train_fitness']:.4g} | {r['held_out_fitness']:.4g} | "
+            f"{_spread([t['fitness'] for t in held])} | "
+            f"{r['generalisation_gap']:+.4g} | {spread('jumps')} | {falls} |"
+        )
+    return [
+        *lines,
+        "",
+        "Jumps and falls: median [min, max] over the held-out terrains.",
+        "",
+    ]
 
 
 def seeds_markdown(out: Path) -> str:

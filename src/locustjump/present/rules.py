@@ -13,6 +13,7 @@ from locustjump import rundir
 from locustjump.present.plots import trajectory_figure
 from locustjump.rundir.config import scene_table
 from locustjump.sim import model as lm
+from locustjump.sim.analysis import ground_profile
 from locustjump.sim.engine.job import DEFAULT_ENGINE
 from locustjump.sim.scene import Flat, Scene, Terrains
 from locustjump.tasks.reference import RulesRun, rules_outcome, run_rules
@@ -49,6 +50,7 @@ def write_rules_run(
         out / rundir.TRAJECTORY_PNG,
         [("rule-based", run.qpos, run.jumps)],
         title=f"Rule-based successive jumping (change time {run.change_time:.3f} s)",
+        ground=ground_profile(run.qpos, model_params, scene),
     )
     model = {
         k: list(v) if isinstance(v, tuple) else v

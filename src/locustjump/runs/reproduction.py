@@ -25,7 +25,7 @@ from typing import TYPE_CHECKING, Any
 from locustjump import rundir
 from locustjump.errors import UserError
 from locustjump.evo import params_class
-from locustjump.present.evaluate import evaluate_run
+from locustjump.present.evaluate import HELD_OUT_SEEDS, evaluate_run, evaluate_terrains
 from locustjump.present.rules import write_rules_run
 from locustjump.present.stages import reporter_of
 from locustjump.rundir.config import TrainConfig, scene_table, terrains_from_table
@@ -321,6 +321,11 @@ class Reproduction:
         extra = reporter_of(beh).extra_evaluation(
             beh, d, best.genome, run_cfg.model, backend=backend, engine=run_cfg.engine
         )
+        if not beh.terrains.scene.is_flat:  # on terrains training never saw
+            log(f"[{stage}] scoring on {len(HELD_OUT_SEEDS)} held-out terrains")
+            extra["held_out"] = evaluate_terrains(
+                d, list(HELD_OUT_SEEDS), backend=backend
+            ).to_dict()
         rundir.write_json(
             rundir.eval_metrics_path(d),
             {**ev.to_dict(), **extra, "eval_wall_s": time.perf_counter() - t0},

@@ -39,6 +39,24 @@ def clearance(
     return z - scene.heights(qpos[..., 0], qpos[..., 1], p.body_length)
 
 
+def ground_profile(
+    qpos: np.ndarray,
+    p: lm.LocustParams = lm.LocustParams(),
+    scene: Scene = Flat(),
+    points: int = 2000,
+) -> tuple[np.ndarray, np.ndarray] | None:
+    """The ground's height (m) under the path of one trajectory ``qpos (T,
+    nq)``: ``(x, h)`` at ``points`` distances from its least to its largest x
+    (half a body length beyond each), the ground at the path's y there;
+    ``None`` on the flat floor."""
+    if scene.is_flat:
+        return None
+    order = np.argsort(qpos[:, 0], kind="stable")
+    xs, ys = qpos[order, 0], qpos[order, 1]
+    x = np.linspace(xs[0] - p.body_length / 2, xs[-1] + p.body_length / 2, points)
+    return x, scene.heights(x, np.interp(x, xs, ys), p.body_length)
+
+
 def find_jumps(
     qpos: np.ndarray, p: lm.LocustParams = lm.LocustParams(), scene: Scene = Flat()
 ) -> list[Jump]:

@@ -15,7 +15,7 @@ import numpy as np
 from locustjump.present.plots import trajectory_figure
 from locustjump.rundir.layout import EVAL, TRAJECTORY_PNG
 from locustjump.sim import model as lm
-from locustjump.sim.analysis import find_jumps
+from locustjump.sim.analysis import find_jumps, ground_profile
 from locustjump.sim.engine.job import DEFAULT_ENGINE, RolloutResult
 from locustjump.tasks import Behaviour
 from locustjump.tasks.reference import RulesRun
@@ -102,7 +102,11 @@ class Reporter:
         beh, res, p, _ = ep
         path = out / TRAJECTORY_PNG
         qpos = res["qpos"][0]
-        trajectory_figure(path, [(beh.name, qpos, find_jumps(qpos, p, beh.scene))])
+        trajectory_figure(
+            path,
+            [(beh.name, qpos, find_jumps(qpos, p, beh.scene))],
+            ground=ground_profile(qpos, p, beh.scene),
+        )
         return [path]
 
     def extra_evaluation(

@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING, Any
 from locustjump.present.plots import trajectory_figure
 from locustjump.present.stages.base import Claim, Episodes, Reporter, fmt, yes
 from locustjump.rundir.layout import EVAL
-from locustjump.sim.analysis import find_jumps
+from locustjump.sim.analysis import find_jumps, ground_profile
 
 if TYPE_CHECKING:
     pass
@@ -48,6 +48,7 @@ class KickReporter(Reporter):
                 ("rule-based", rules.qpos, rules.jumps),
             ],
             title=f"Kicking the ground: evolved vs rule-based ({beh.n_steps} steps)",
+            ground=ground_profile(qpos, p, beh.scene),
         )
         return [path]
 

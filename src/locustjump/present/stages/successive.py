@@ -14,7 +14,7 @@ import numpy as np
 from locustjump.present.plots import composed_figure
 from locustjump.present.stages.base import Claim, Episodes, Reporter, fmt, yes
 from locustjump.rundir.layout import EVAL
-from locustjump.sim.analysis import find_jumps
+from locustjump.sim.analysis import find_jumps, ground_profile
 from locustjump.tasks.composed import SIMPLE, Composed
 from locustjump.tasks.monolithic import Monolithic
 
@@ -56,6 +56,7 @@ class SuccessiveReporter(Reporter):
             selected,
             SIMPLE,
             title=f"{what}: {beh.name} vs rule-based ({beh.n_steps} steps)",
+            ground=ground_profile(qpos, p, beh.scene),
         )
         return [path]
 
