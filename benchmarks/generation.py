@@ -36,6 +36,7 @@ from locustjump.rundir.config import TrainConfig  # noqa: E402
 from locustjump.runs.trainer import train  # noqa: E402
 from locustjump.sim.controller import MLP  # noqa: E402
 from locustjump.sim.engine.backends import ThreadBackend  # noqa: E402
+from locustjump.sim.scene import Terrains  # noqa: E402
 from locustjump.tasks import (  # noqa: E402
     BEHAVIOURS,
     SIMPLE_BEHAVIOURS,
@@ -84,7 +85,10 @@ class GenerationTimes:
 
     @property
     def ratio(self) -> float:
-        """Median of the per-generation ratios engine / physics-only."""
+        """Median of the per-generation ratios engine / physics-only (NaN
+        where the physics-only replay was not timed)."""
+        if not self.physics_s:
+            return float("nan")
         return statistics.median(
             a / b for a, b in zip(self.wall_s, self.physics_s, strict=True)
         )
@@ -106,14 +110,20 @@ def measure(
     repeats: int = 3,
     simple: rundir.FrozenGenomes | None = None,
     engine: str | None = None,
+    terrains: Terrains | None = None,
 ) -> GenerationTimes:
     """Train ``warmup + generations`` generations, then time physics-only
-    replays of the measured generations' episodes."""
+    replays of the measured generations' episodes. With ``terrains`` (not
+    the flat floor) the run trains on them and no physics-only replay is
+    timed (its ratio is NaN)."""
     cfg = TrainConfig(
         behaviour=behaviour,
         generations=warmup + generations,
         optimizer=RCGAParams(population=population),
     )
+    if terrains is not None:
+        cfg = cfg.replace(scene=terrains)
+    replay = cfg.scene == Terrains()
     if engine is not None:
         cfg = cfg.replace(engine=engine)
     simple = simple if get_behaviour(behaviour, None).requires else None
@@ -123,6 +133,7 @@ def measure(
     starts = beh.start_states(p)
     kw = {"frozen": simple} if beh.requires else {}
     wall, steps, phys = [], [], []
+    n_new = population  # genomes asked for a generation (known on a replay)
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(tmp) / "run"
         train(cfg.replace(generations=warmup), out, progress=False,
@@ -141,7 +152,10 @@ def measure(
             row = rundir.read_metrics(out / rundir.METRICS)
             wall.append(float(row["wall_s"][-1]))
             steps.append(int(row["control_steps"][-1]))
+            if not replay:
+                continue
             genomes = ga.ask()
+            n_new = len(genomes)
             rec = (*beh.record, "ctrl")
             res = beh.simulate(genomes, p, record=rec, backend=backend,
                                engine=cfg.engine)  # fmt: skip
@@ -151,7 +165,7 @@ def measure(
                 physics_only_seconds(p, ep_starts, res["ctrl"], threads, repeats)
             )
     return GenerationTimes(
-        behaviour, wall, phys, steps, len(genomes), len(starts), beh.n_steps
+        behaviour, wall, phys, steps, n_new, len(starts), beh.n_steps
     )
 
 

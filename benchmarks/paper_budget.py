@@ -14,6 +14,12 @@ control steps/s and the ratio engine / physics-only. The last line reads
 ``paper budget estimate: <minutes> min on <N> threads``.
 
     python benchmarks/paper_budget.py [--threads 2] [--simple-from results/quick-seed0]
+    python benchmarks/paper_budget.py --scene debris --terrains 2
+
+``--scene debris --terrains K``: the stages train on K debris terrains (as
+``scripts/debris_study.sh``: K = 2), so a generation simulates K times the
+episodes among the boxes; no physics-only replay there (engine/physics:
+nan).
 """
 
 from __future__ import annotations
@@ -26,6 +32,7 @@ import mujoco
 
 sys.path.insert(0, str(Path(__file__).parent))
 from generation import measure, simple_genomes  # noqa: E402
+from locustjump.sim.scene import Terrains, scene_class  # noqa: E402
 
 PAPER_GENERATIONS = 1000
 STAGES = ("kick", "getup", "return-legs", "composed")
@@ -46,7 +53,10 @@ def main() -> None:
         help="numba-loop: the compiled path's step-by-step loop (the controllers "
         "called from Python once a control step, not inside MuJoCo's threads)",
     )
+    ap.add_argument("--scene", choices=("flat", "debris"), default="flat")
+    ap.add_argument("--terrains", type=int, default=1, help="training terrains")
     args = ap.parse_args()
+    terrains = Terrains(scene_class(args.scene)(), args.terrains)
     engine = args.engine
     if engine == "numba-loop":
         from locustjump.sim.engine import incallback
@@ -56,7 +66,7 @@ def main() -> None:
 
     print(
         f"mujoco {mujoco.__version__}, {args.threads} threads, engine {args.engine}, "
-        "population 50, "
+        f"scene {args.scene} x {args.terrains} terrains, population 50, "
         f"{args.generations} measured generations per stage after {args.warmup}"
     )
     print(
@@ -74,6 +84,7 @@ def main() -> None:
             repeats=args.repeats,
             simple=simple,
             engine=engine,
+            terrains=terrains,
         )
         est = t.median_wall_s * PAPER_GENERATIONS
         total += est
