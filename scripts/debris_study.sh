@@ -2,45 +2,54 @@
 # Issue #30: successive jumping across debris. Every run trains on 2 terrains
 # (debris seeds 0 and 1, fitness their mean) and is tested on terrains 100-119
 # it never saw (scripts/debris_table.py). Rerun to continue: reproductions
-# and runs resume from their checkpoints. SEEDS="0 1 2" narrows it.
+# and runs resume from their checkpoints. SEEDS="0 1 2" narrows it; BUDGET
+# (quick, the default, or long) is the reproduction's budget and sets the
+# composed stage's generations in `flat` (quick 30, long 120).
 #
-#   scripts/debris_study.sh reproduce  the paper on debris at the quick budget:
+#   scripts/debris_study.sh reproduce  the paper on debris at the budget:
 #                              rules, kick, getup, return-legs, composed (on
 #                              these debris-evolved simples) and the monolithic
-#                              network at their total budget (90 generations),
-#                              into runs/debris/quick-seed<s>/
-#   scripts/debris_study.sh flat       the composed switcher (30 generations) on
-#                              debris over the simple networks evolved on the
-#                              flat floor at the long budget (results/long-seed0,
+#                              network at their total budget, into
+#                              runs/debris/<budget>-seed<s>/
+#   scripts/debris_study.sh flat       the composed switcher on debris over the
+#                              simple networks evolved on the flat floor at the
+#                              long budget (results/long-seed0,
 #                              results/study/long/seed-<s>), into
-#                              runs/debris/flat-simples-composed-s<s>/
+#                              runs/debris/flat-simples-composed-s<s>/ (quick)
+#                              or runs/debris/long-flat-simples-composed-s<s>/
 #   scripts/debris_study.sh status     generations done of every run
 set -e
 cd "$(dirname "$0")/.."
 SEEDS=${SEEDS:-"0 1 2"}
+BUDGET=${BUDGET:-quick}
 SCENE="--scene debris --terrain-seed 0 --terrains 2"
 BIN=.venv/bin/locustjump
 flat_simples() {  # the long-budget flat reproduction of seed $1
   if [ "$1" = 0 ]; then echo results/long-seed0; else echo "results/study/long/seed-$1"; fi
 }
+case $BUDGET in
+  quick) COMPOSED=30 PREFIX="" ;;
+  long) COMPOSED=120 PREFIX="long-" ;;
+  *) echo "BUDGET must be quick or long, not '$BUDGET'" >&2; exit 2 ;;
+esac
 case $1 in
   reproduce)
     for s in $SEEDS; do
-      $BIN reproduce --budget quick --seed "$s" $SCENE --no-videos --quiet \
-        --out "runs/debris/quick-seed$s"
+      $BIN reproduce --budget "$BUDGET" --seed "$s" $SCENE --no-videos --quiet \
+        --out "runs/debris/$BUDGET-seed$s"
     done ;;
   flat)
     for s in $SEEDS; do
-      d=runs/debris/flat-simples-composed-s$s src=$(flat_simples "$s")
+      d=runs/debris/${PREFIX}flat-simples-composed-s$s src=$(flat_simples "$s")
       if [ -f "$d/config.toml" ]; then how=--resume; else
         how="$SCENE --kick $src/kick --getup $src/getup --return-legs $src/return-legs"
       fi
-      $BIN train composed --seed "$s" --generations 30 --quiet --out "$d" $how
+      $BIN train composed --seed "$s" --generations "$COMPOSED" --quiet --out "$d" $how
     done ;;
   status)
     for d in runs/debris/*/ runs/debris/*/*/; do
       [ -f "$d/config.toml" ] || continue
       echo "$d $(($(wc -l < "$d/metrics.csv") - 1)) generations"
     done ;;
-  *) sed -n '2,19p' "$0"; exit 2 ;;
+  *) sed -n '2,21p' "$0"; exit 2 ;;
 esac
