@@ -3,8 +3,9 @@
 Every controller runs the composed behaviour's episode (3000 control steps,
 from its start on its side; the rules also from their standing start) on each
 debris terrain of ``--terrain-seeds`` (default 100-119; training used 0 and
-1) and is scored by the debris fitness (Eq. 4 with the height above the
-ground under the body, ``tasks/composed.py``). Rows:
+1) and is scored by the debris fitness E (Eq. 4 with the height above the
+ground under the body, plus 200 control steps per metre of forward
+progress: ``successive_fitness`` in ``tasks/composed.py``). Rows:
 
 * the rule-based jumper (paper §2.2), standing and on its side: its jumps
   before it lies overturned for good (U_z < 0 for 1 s) and how far it got;
@@ -31,7 +32,9 @@ Usage::
 The held-out mean of a run is the mean of its fitness over the terrains
 (as ``locustjump evaluate RUN --terrain-seeds`` computes, which it equals at
 the training physics); the gap is its training fitness minus that, at the
-training physics only.
+training physics only. "Gain in the last third": the share of its final
+best fitness a run gained over its last third of generations (near 0: its
+learning curve had flattened).
 """
 
 from __future__ import annotations
@@ -47,11 +50,11 @@ from scipy.stats import mannwhitneyu
 from locustjump import rundir
 from locustjump.runs.multiseed import parse_seeds
 from locustjump.sim import model as lm
-from locustjump.sim.analysis import clearance, find_jumps, stuck_overturned
+from locustjump.sim.analysis import find_jumps, stuck_overturned
 from locustjump.sim.engine.backends import ThreadBackend
 from locustjump.sim.engine.rollout import rollout
 from locustjump.sim.scene import Debris
-from locustjump.tasks.composed import START_ROLL, overturns
+from locustjump.tasks.composed import START_ROLL, overturns, successive_fitness
 from locustjump.tasks.getup import rolled_starts
 from locustjump.tasks.rules import (
     DEFAULT_CHANGE_TIME,
@@ -75,7 +78,7 @@ def episodes(ctrl, params, starts, p, scene, backend) -> list[dict]:
         stuck = stuck_overturned(uz)
         end = len(q) - 1 if stuck is None else stuck
         rows.append({
-            "fitness": 0.0 if bad else float(clearance(q, p, scene)[1:].sum()),
+            "fitness": 0.0 if bad else float(successive_fitness(q, p, scene)),
             "jumps": len(jumps),
             "jumps_before_stuck": sum(j.start < end for j in jumps),
             "overturned": over,
@@ -106,7 +109,7 @@ def references(
                     rules, rules.params_for(DEFAULT_CHANGE_TIME), st, p, scene, backend
                 )[0]  # fmt: skip
             )
-            for how, hybrid in hybrids.items():
+            for how, hybrid in hybrids.items() if getups else ():
                 params = np.concatenate(
                     [hybrid.params_for(DEFAULT_CHANGE_TIME, g) for g in getups]
                 )
@@ -145,6 +148,12 @@ def summary(label: str, rows: list[dict]) -> dict:
         "recovered": float(np.mean([r["recovered"] for r in rows])),
         "distance_m": float(np.median([r["distance_m"] for r in rows])),
     }
+
+
+def late_gain(best: np.ndarray) -> float:
+    """How much of its final best fitness a run gained in its last third of
+    generations (0: the learning curve was flat by then)."""
+    return float((best[-1] - best[len(best) * 2 // 3 - 1]) / abs(best[-1]))
 
 
 def group_of(run: Path) -> str:
@@ -186,32 +195,36 @@ def main(argv: list[str] | None = None) -> int:
         train = rundir.load_run(r)[2].fitness
         mean = float(np.mean([x["fitness"] for x in rows]))
         as_trained = args.substeps == lm.LocustParams().substeps
+        best = rundir.read_metrics(r / rundir.METRICS)["best"]
         row.update(
             train_fitness=train,
             gap=train - mean if as_trained else None,
-            generations=len(rundir.read_metrics(r / rundir.METRICS)["best"]),
+            generations=len(best),
+            late_gain=late_gain(best),
         )
         table.append(row)
         held.setdefault(group_of(r), []).append(mean)
     print(f"Debris terrains {args.terrain_seeds} (never trained on), "
-          f"{args.substeps} physics substeps; fitness: Eq. 4 above the ground "
-          "under the body (m x steps)\n")  # fmt: skip
+          f"{args.substeps} physics substeps; fitness E: Eq. 4 above the ground "
+          "under the body + 200 x forward progress (m x steps)\n")  # fmt: skip
     print(
-        "| controller | median Σh | mean Σh | jumps | jumps before stuck | "
-        "overturned / recovered | distance (m) | training Σh | gap |"
+        "| controller | median E | mean E | jumps | jumps before stuck | "
+        "overturned / recovered | distance (m) | training E | gap | "
+        "gain in the last third |"
     )
-    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- |")
+    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
     for x in table:
         train = f"{x['train_fitness']:.0f}" if "train_fitness" in x else ""
         gap = f"{x['gap']:.0f}" if x.get("gap") is not None else ""
+        late = f"{x['late_gain']:.0%}" if "late_gain" in x else ""
         print(f"| {x['controller']} | {x['median_fitness']:.0f} | "
               f"{x['mean_fitness']:.0f} | {x['jumps']:.1f} | "
               f"{x['jumps_before_stuck']:.1f} | {x['overturned']:.1f} / "
               f"{x['recovered']:.1f} | {x['distance_m']:.2f} | {train} | "
-              f"{gap} |")  # fmt: skip
+              f"{gap} | {late} |")  # fmt: skip
     groups = sorted(held)
     if groups:
-        print("\n| group | runs | held-out mean Σh per run | median |")
+        print("\n| group | runs | held-out mean E per run | median |")
         print("| --- | --- | --- | --- |")
         for g in groups:
             v = held[g]

@@ -30,6 +30,7 @@ from locustjump.sim.analysis import (
 from locustjump.sim.engine.rollout import StartStates, rollout
 from locustjump.sim.scene import MAX_BOXES, Debris, Flat, Terrains
 from locustjump.tasks import get_behaviour
+from locustjump.tasks.composed import PROGRESS_WEIGHT, successive_fitness
 from locustjump.tasks.reference import rules_outcome, run_rules
 from locustjump.tasks.rules import RuleController
 from locustjump.tasks.starts import ready_state
@@ -189,6 +190,23 @@ def test_height_is_measured_above_the_ground_under_the_body():
     np.testing.assert_array_equal(clearance(qpos, P, Flat()), qpos[..., 2])
     flat_jumps = find_jumps(qpos[0], P)  # on the flat floor the box top is a jump
     assert find_jumps(qpos[0], P, scene) == [] and len(flat_jumps) == 1
+
+
+def test_the_debris_fitness_rewards_going_across_it():
+    """On a terrain E adds 200 control steps per metre of forward progress
+    (hopping in place by the start scored as well as crossing the rubble);
+    on the flat floor it is Eq. 4 alone."""
+    scene = Debris(seed=0)
+    qpos = np.zeros((2, 31, 7))
+    qpos[:, :, 2] = 0.3
+    qpos[0, :, 0] = np.linspace(0.0, 2.0, 31)  # 2 m forward
+    qpos[1, :, 0] = np.linspace(0.0, -0.5, 31)  # 0.5 m back
+    above = clearance(qpos, P, scene)[:, 1:].sum(axis=1)
+    progress = PROGRESS_WEIGHT * np.array([2.0, -0.5])
+    np.testing.assert_allclose(successive_fitness(qpos, P, scene), above + progress)
+    assert PROGRESS_WEIGHT == 200.0
+    eq4 = qpos[:, 1:, 2].sum(axis=1)
+    np.testing.assert_array_equal(successive_fitness(qpos, P, Flat()), eq4)
 
 
 def test_the_figures_draw_the_ground_under_the_path():
