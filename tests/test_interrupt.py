@@ -104,11 +104,19 @@ def _continues(out: Path, err: str, reference: Path) -> None:
     assert_same_run(reference, out)
 
 
+def _default_sigint() -> None:
+    """In the child: Ctrl-C as at a terminal. A shell that runs the suite in
+    the background (``make test &``) ignores SIGINT, and children inherit that;
+    Python then installs no KeyboardInterrupt handler."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def _spawn(argv: list[str]) -> subprocess.Popen:
     return subprocess.Popen(
         [sys.executable, "-m", "locustjump.cli", *argv],
         stderr=subprocess.PIPE,
         text=True,
+        preexec_fn=_default_sigint,
     )
 
 
