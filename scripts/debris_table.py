@@ -126,11 +126,14 @@ def references(
 
 def run_rows(run: Path, seeds: list[int], p: lm.LocustParams, backend) -> list[dict]:
     """A run's best genome in its behaviour's episode on each debris terrain
-    of ``seeds``, simulated with ``p``'s physics."""
+    of ``seeds`` (of its own debris parameters; the default ones for a run
+    trained on the flat floor), simulated with ``p``'s physics."""
     _, beh, best = rundir.load_run(run)
+    base = beh.terrains.scene
+    base = Debris() if base.is_flat else base
     rows = []
     for s in seeds:
-        here = beh.on(beh.terrains.scene.with_seed(s))
+        here = beh.on(base.with_seed(s))
         rows += episodes(here.controller, best.genome[None], here.start_states(p), p,
                          here.scene, backend)  # fmt: skip
     return rows
