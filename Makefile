@@ -19,10 +19,9 @@ demo: $(VENV)/.installed
 	mkdir -p demo
 	$(BIN)/locustjump model --out demo/locust.xml --force
 	# the paper's stages on the small demo budget, without the monolithic
-	# baseline: what results/demo-seed0 ships. On a 2-core VM 7.5 min with
-	# other jobs' load average at 1-4 (4.2 of them rendering the videos), 29.5
-	# min at 4-8 (README, The demo). A second `make demo` continues an
-	# interrupted reproduction
+	# baseline: what results/demo-seed0 ships. On an idle 2-core VM 6.6 min
+	# (about 2.7 of them rendering the videos; README, The demo). A second
+	# `make demo` continues an interrupted reproduction
 	$(BIN)/locustjump reproduce --budget demo --seed 0 --no-monolithic --out demo/reproduce
 
 test: $(VENV)/.installed
