@@ -15,6 +15,7 @@ import pytest
 from helpers import TINY_GENERATIONS
 from locustjump import rundir
 from locustjump.cli import main
+from locustjump.cli.resolve import terrains_arg
 from locustjump.errors import UserError
 from locustjump.present import report
 from locustjump.rundir.config import TrainConfig
@@ -390,3 +391,18 @@ def test_the_report_of_a_debris_run_shows_the_held_out_table(
     html = page.read_text()
     assert "On terrains training never saw" in html and "debris terrains 12" in html
     assert "<td>kick</td>" in html
+
+
+def test_a_reproduction_on_debris_of_its_own_names_its_marker(tmp_path):
+    """Its command remakes it: non-default debris parameters come from the
+    [scene] table of its marker (``--scene FILE``), the default ones by name."""
+    mine = Terrains(Debris(seed=2, height_max=0.3), 2, "min")
+    rep = reproduction.Reproduction.open(tmp_path / "r", "quick", (0,), terrains=mine)
+    rep.start(rep.command())
+    marker = tmp_path / "r" / rundir.MARKER
+    assert f" --scene {marker} " in rep.command()
+    assert terrains_arg(str(marker)) == mine
+    plain = reproduction.Reproduction.open(
+        tmp_path / "p", "quick", (0,), terrains=Terrains(Debris(seed=2), 2)
+    )
+    assert " --scene debris --terrain-seed 2 --terrains 2 " in plain.command()

@@ -176,11 +176,18 @@ class Reproduction:
         if self.engine != DEFAULT_ENGINE:
             flags += f" --engine {self.engine}"
         t = self.terrains
-        if t != Terrains():
+        default = Terrains(type(t.scene)().with_seed(0), t.count)
+        if (
+            t != Terrains()
+            and dataclasses.replace(t, scene=t.scene.with_seed(0)) == default
+        ):
             flags += f" --scene {t.scene.name}"
             seed = getattr(t.scene, "seed", 0)
             flags += f" --terrain-seed {seed}" if seed else ""
             flags += f" --terrains {t.count}" if t.count > 1 else ""
+        elif t != Terrains():  # parameters of its own: its marker's [scene]
+            marker = rundir.SEEDS_MARKER if self.many else rundir.MARKER
+            flags += f" --scene {Path(self.out) / marker}"
         if self.many:
             seeds = f" --seeds {','.join(map(str, self.seeds))}"
             flags += "" if backend == "threads" else f" --backend {backend}"
