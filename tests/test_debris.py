@@ -22,6 +22,7 @@ from locustjump.rundir.config import TrainConfig
 from locustjump.runs import reproduction
 from locustjump.runs.reproduce import Budget, reproduce
 from locustjump.sim import model as lm
+from locustjump.sim import names
 from locustjump.sim.analysis import (
     clearance,
     find_jumps,
@@ -116,6 +117,23 @@ def test_start_states_are_upright_and_at_rest_on_the_terrain():
     np.testing.assert_array_equal(
         ready_state(P).qpos, StartStates.ready(lm.load_model(P)).qpos
     )
+
+
+def test_the_composed_start_touches_only_the_floor_on_every_terrain():
+    """Fig. 11's start (on its side, settled on the floor) lies in the clearing
+    of every training and held-out terrain the study uses, touching no box."""
+    beh = get_behaviour("monolithic", None)
+    for seed in (*range(5), *range(100, 120)):
+        m = lm.load_model(P, Debris(seed=seed))
+        d = mujoco.MjData(m)
+        start = beh.on(Debris(seed=seed)).start_states(P)
+        d.qpos[:], d.qvel[:] = start.qpos[0], start.qvel[0]
+        mujoco.mj_forward(m, d)
+        floor = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_GEOM, names.FLOOR)
+        touched = {int(g) for c in d.contact[: d.ncon] for g in (c.geom1, c.geom2)}
+        assert d.ncon and floor in touched, seed
+        boxes = [g for g in touched if m.geom(g).name.startswith(names.DEBRIS)]
+        assert boxes == [], seed
 
 
 def _replay_penetration(p: lm.LocustParams, scene: Debris, ctrl: np.ndarray, start):

@@ -7,7 +7,10 @@ behaviours (paper §4, Fig. 11–12).
   networks (kick, getup, return-legs, in that output order) are frozen; servo
   targets carry over across switches (each network changes the targets it
   finds);
-* start: lying on its side, the get-up start state rolled 90 deg (Fig. 11);
+* start: lying on its side, the get-up start state rolled 90 deg (Fig. 11),
+  settled on the flat floor; on a terrain the same state, at rest in the
+  clearing kept free around the start, touching no rubble
+  (``tests/test_debris.py``), so every terrain starts alike;
 * episode: 3000 control steps (25 s);
 * fitness (Eq. 4): ``E = sum_{t=1..3000} z_t``, the body centre's height above
   the floor in metres, summed over control steps (unit: m x steps; divide by
@@ -195,7 +198,7 @@ class Successive(Behaviour):
     eval_record = ("qpos", "obs", "ctrl", "memory")
 
     def start_states(self, p: lm.LocustParams) -> StartStates:
-        return rolled_starts(p, (START_ROLL,))
+        return rolled_starts(p, (START_ROLL,))  # on any terrain: module docstring
 
     def episode_fitness(self, res: RolloutResult, p: lm.LocustParams) -> np.ndarray:
         return successive_fitness(res["qpos"], p, self.scene)
