@@ -152,8 +152,9 @@ class MonolithicReporter(SuccessiveReporter):
         c, mono = stages[Composed.name]["metrics"], stages[mono_name]["metrics"]
         lines += [
             "One 9-10-4 network evolved directly on the composed task (same start, "
-            "3000 steps, E = sum z) with as many genome evaluations as the four "
-            "stages of the composed controller together:",
+            "3000 steps, same fitness E: Eq. 4, on a terrain with its progress "
+            "term) with as many genome evaluations as the four stages of the "
+            "composed controller together:",
             "",
             "| controller | fitness E (m x steps) | mean height (m) | jumps | "
             "distance (m) | overturned / recovered | evaluations |",
