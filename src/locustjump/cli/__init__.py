@@ -19,20 +19,36 @@ def _interrupt(signum, frame) -> None:
     raise KeyboardInterrupt
 
 
+#: Ctrl-Cs that landed inside a callback from C (Numba's compiler calls
+#: llvmlite's object cache through ctypes), where Python can only report them
+_swallowed: list[BaseException] = []
+
+
+def _unraisable(info) -> None:
+    if isinstance(info.exc_value, KeyboardInterrupt):
+        _swallowed.append(info.exc_value)  # seen after the loading, below
+        return
+    sys.__unraisablehook__(info)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     previous = signal.signal(signal.SIGTERM, _interrupt)  # stop as on Ctrl-C
+    hook, sys.unraisablehook = sys.unraisablehook, _unraisable
     try:
         # imported on call, not at the top: loading MuJoCo, Numba and
         # Matplotlib takes a second or more, and a Ctrl-C meanwhile must end
         # like any other, in one line, not in a traceback
         from locustjump.cli.dispatch import dispatch
 
+        if _swallowed:
+            raise KeyboardInterrupt
         return dispatch(argv)
     except KeyboardInterrupt:  # before the command began
         print("locustjump: interrupted (nothing was written)", file=sys.stderr)
         return 130
     finally:
         signal.signal(signal.SIGTERM, previous)
+        sys.unraisablehook = hook
 
 
 if __name__ == "__main__":
