@@ -184,16 +184,7 @@ def scene_table(t: Terrains) -> dict[str, Any]:
 
 def terrains_from_table(table: Any, source: str) -> Terrains:
     """A ``[scene]`` table (every key checked) as the training terrains."""
-    if not isinstance(table, dict):
-        raise UserError(f"{source}: scene must be a table")
-    table = dict(table)
-    kind = table.pop("kind", DEFAULT_SCENE)
-    if not isinstance(kind, str):
-        raise UserError(f"{source}: scene.kind must be a string, got {kind!r}")
-    try:
-        cls = scene_class(kind)
-    except ValueError as e:
-        raise UserError(f"{source}: scene.kind: {e}") from None
+    table, cls = _kind(table, "scene", DEFAULT_SCENE, scene_class, source)
     top = {"terrains": 1, "aggregate": "mean"}
     extra = {k: coerce(table.pop(k), v, f"scene.{k}", source)
              for k, v in top.items() if k in table}  # fmt: skip
@@ -216,15 +207,26 @@ def optimizer_from_table(table: Any, source: str, section: str = "optimizer") ->
     settings (``section``: its name in the file, for the errors)."""
     if not isinstance(table, dict):
         raise UserError(f"{source}: {section} must be a table")
-    table = dict(table)
-    kind = table.pop("kind", "rcga")
-    if not isinstance(kind, str):
-        raise UserError(f"{source}: optimizer.kind must be a string, got {kind!r}")
-    try:
-        cls = params_class(kind)
-    except ValueError as e:
-        raise UserError(f"{source}: optimizer.kind: {e}") from None
+    table, cls = _kind(table, "optimizer", "rcga", params_class, source)
     return from_table(cls, table, section, source)
+
+
+def _kind(
+    table: Any, section: str, default: str, lookup: Any, source: str
+) -> tuple[dict[str, Any], type]:
+    """A ``[section]`` table without its ``kind`` key, and the class that
+    ``kind`` (default ``default``) names through ``lookup``; errors name the
+    file ``source``."""
+    if not isinstance(table, dict):
+        raise UserError(f"{source}: {section} must be a table")
+    table = dict(table)
+    kind = table.pop("kind", default)
+    if not isinstance(kind, str):
+        raise UserError(f"{source}: {section}.kind must be a string, got {kind!r}")
+    try:
+        return table, lookup(kind)
+    except ValueError as e:
+        raise UserError(f"{source}: {section}.kind: {e}") from None
 
 
 def coerce(value: Any, default: Any, key: str, source: str) -> Any:
