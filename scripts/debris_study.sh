@@ -17,6 +17,12 @@
 #                              results/study/long/seed-<s>), into
 #                              runs/debris/flat-simples-composed-s<s>/ (quick)
 #                              or runs/debris/long-flat-simples-composed-s<s>/
+#   scripts/debris_study.sh ship       copy the finished runs that back
+#                              docs/science.md into results/debris/ (same
+#                              names): config.toml, metrics.csv, best.npz and
+#                              a composed run's frozen.npz, what `locustjump
+#                              evaluate` re-simulates; no checkpoints, figures
+#                              or trajectories (tests/test_study.py replays them)
 #   scripts/debris_study.sh status     generations done of every run
 set -e
 cd "$(dirname "$0")/.."
@@ -46,10 +52,24 @@ case $1 in
       fi
       $BIN train composed --seed "$s" --generations "$COMPOSED" --quiet --out "$d" $how
     done ;;
+  ship)
+    for d in runs/debris/*-seed*/*/ runs/debris/*flat-simples-composed-s*/; do
+      d=${d%/}
+      [ -f "$d/config.toml" ] && [ -f "$d/best.npz" ] || continue
+      want=$(sed -n 's/^generations = //p' "$d/config.toml")
+      have=$(($(wc -l < "$d/metrics.csv") - 1))
+      [ "$have" = "$want" ] || { echo "skip $d: $have of $want generations"; continue; }
+      out=results/debris/${d#runs/debris/}
+      mkdir -p "$out"
+      for f in config.toml metrics.csv best.npz frozen.npz; do
+        [ -f "$d/$f" ] && cp "$d/$f" "$out/$f"
+      done
+    done
+    echo "results/debris: $(ls results/debris/*/config.toml results/debris/*/*/config.toml | wc -l) runs" ;;
   status)
     for d in runs/debris/*/ runs/debris/*/*/; do
       [ -f "$d/config.toml" ] || continue
       echo "$d $(($(wc -l < "$d/metrics.csv") - 1)) generations"
     done ;;
-  *) sed -n '2,21p' "$0"; exit 2 ;;
+  *) sed -n '2,27p' "$0"; exit 2 ;;
 esac

@@ -1,5 +1,6 @@
-"""The runs shipped in results/ — the study's (issue #20, docs/science.md) and
-every stage of the shipped reproductions: every best genome re-simulates to its
+"""The runs shipped in results/ — the study's (issue #20, docs/science.md), the
+debris study's (issue #30, results/debris/) and every stage of the shipped
+reproductions: every best genome re-simulates to its
 recorded fitness, bit for bit, on the engine path its config.toml names."""
 
 from pathlib import Path
@@ -10,10 +11,8 @@ import pytest
 from locustjump import rundir
 
 RESULTS = Path(__file__).resolve().parent.parent / "results"
-STUDY = RESULTS / "study"
-RUNS = sorted(
-    d for d in (*RESULTS.glob("*/*"), *STUDY.glob("long/seed-*/*")) if rundir.is_run(d)
-)
+SHIPPED = ("*/*", "study/long/seed-*/*", "debris/*-seed*/*")
+RUNS = sorted(d for p in SHIPPED for d in RESULTS.glob(p) if rundir.is_run(d))
 
 
 @pytest.mark.parametrize("run", RUNS, ids=[str(d.relative_to(RESULTS)) for d in RUNS])
