@@ -40,6 +40,7 @@ from locustjump.sim import names
 from locustjump.sim.actuation import MAX_DELTA, N_ACTUATORS
 from locustjump.sim.engine.episode import Episode
 from locustjump.sim.model import CONTROL_DT
+from locustjump.sim.scene import Scene
 from locustjump.sim.sensors import N_INPUTS
 from locustjump.tasks import Behaviour, behaviour_class, behaviour_names
 
@@ -63,7 +64,7 @@ _OBS_HIGH = np.array([2 * np.pi] * 4 + [1.0] * 5)
 
 
 class LocustEnv(gym.Env):
-    """The locust on the floor, one task of the paper.
+    """The locust on the floor (or a terrain: ``scene``), one task of the paper.
 
     **Observation** ``Box(9,)`` float64, the paper's inputs
     (:mod:`locustjump.sim.sensors`):
@@ -98,6 +99,11 @@ class LocustEnv(gym.Env):
     successive jump    z_t, the body's height (m)                      Eq. 4
     =================  ==============================================  ==========
 
+    On a terrain (``scene``) the successive jump's reward is z_t - h(x_t,
+    y_t), the height above the ground under the body, plus 200 x (x_t -
+    x_{t-1}) (m): its return is the debris fitness
+    (:func:`~locustjump.tasks.composed.successive_fitness`).
+
     **Termination**: when the simulation goes unstable (``info["unstable"]``);
     the last reward then brings the return to the task's worst fitness, as in
     training. **Truncation**: after T steps (300, 1000, 1000, 3000).
@@ -116,6 +122,9 @@ class LocustEnv(gym.Env):
         ``"monolithic"``, or one registered later) or a behaviour object.
       render_mode: ``None`` or ``"rgb_array"``.
       model_params: the creature.
+      scene: where the episodes run (``locustjump.sim.scene.Debris(seed=3)``:
+        one rubble field); default the behaviour's own, the flat floor for a
+        name. Its start states are settled there.
       width, height, camera: of the rendered frames (camera ``track``/``side``).
     """
 
@@ -127,6 +136,7 @@ class LocustEnv(gym.Env):
         *,
         render_mode: str | None = None,
         model_params: lm.LocustParams = lm.LocustParams(),
+        scene: Scene | None = None,
         width: int = 640,
         height: int = 480,
         camera: str = names.CAMERA_TRACK,
@@ -134,6 +144,8 @@ class LocustEnv(gym.Env):
         if render_mode not in (None, *self.metadata["render_modes"]):
             raise ValueError(f"unsupported render_mode {render_mode!r}")
         beh = behaviour_class(task)() if isinstance(task, str) else task
+        if scene is not None:
+            beh = beh.on(scene)
         if beh.requires:
             raise ValueError(
                 f"{beh.name} builds on frozen runs ({', '.join(beh.requires)}); "
@@ -142,7 +154,7 @@ class LocustEnv(gym.Env):
         self.task = beh.name
         self.render_mode = render_mode
         self._behaviour = beh
-        self._episode = Episode(model_params)
+        self._episode = Episode(model_params, beh.scene)
         self._starts = beh.start_states(model_params)
         self._reward = beh.reward(model_params)
         self.n_steps = self._behaviour.n_steps
@@ -157,6 +169,10 @@ class LocustEnv(gym.Env):
     @property
     def model_params(self) -> lm.LocustParams:
         return self._episode.params
+
+    @property
+    def scene(self) -> Scene:
+        return self._behaviour.scene
 
     @property
     def n_starts(self) -> int:

@@ -178,13 +178,20 @@ def overturns(uz: np.ndarray) -> tuple[int, int]:
 
 
 class HeightReward(StepReward):
-    """Dense Eq. 4: ``z_t``, the body's height (m)."""
+    """Dense :func:`successive_fitness`: ``z_t`` (m) on the flat floor (Eq. 4);
+    on a terrain ``z_t - h(x_t, y_t) + PROGRESS_WEIGHT (x_t - x_{t-1})``,
+    whose sum over the episode is the fitness there."""
 
     def reset(self, qpos: np.ndarray, obs: np.ndarray) -> None:
-        pass
+        self._x = float(qpos[0])
 
     def step(self, qpos: np.ndarray, obs: np.ndarray) -> float:
-        return float(qpos[2])
+        scene = self.behaviour.scene
+        if scene.is_flat:
+            return float(qpos[2])
+        x, self._x = self._x, float(qpos[0])
+        height = float(clearance(qpos[None], self.p, scene)[0])
+        return height + PROGRESS_WEIGHT * (self._x - x)
 
 
 class Successive(Behaviour):
