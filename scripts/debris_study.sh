@@ -17,12 +17,10 @@
 #                              results/study/long/seed-<s>), into
 #                              runs/debris/flat-simples-composed-s<s>/ (quick)
 #                              or runs/debris/long-flat-simples-composed-s<s>/
-#   scripts/debris_study.sh ship       copy the finished runs that back
-#                              docs/science.md into results/debris/ (same
-#                              names): config.toml, metrics.csv, best.npz and
-#                              a composed run's frozen.npz, what `locustjump
-#                              evaluate` re-simulates; no checkpoints, figures
-#                              or trajectories (tests/test_study.py replays them)
+#   scripts/debris_study.sh ship       copy the seeds' finished runs (both
+#                              arms) into results/debris/, same names
+#                              (scripts/ship_runs.sh: genomes, metrics,
+#                              configs; tests/test_study.py replays them)
 #   scripts/debris_study.sh status     generations done of every run
 set -e
 cd "$(dirname "$0")/.."
@@ -53,17 +51,9 @@ case $1 in
       $BIN train composed --seed "$s" --generations "$COMPOSED" --quiet --out "$d" $how
     done ;;
   ship)
-    for d in runs/debris/*-seed*/*/ runs/debris/*flat-simples-composed-s*/; do
-      d=${d%/}
-      [ -f "$d/config.toml" ] && [ -f "$d/best.npz" ] || continue
-      want=$(sed -n 's/^generations = //p' "$d/config.toml")
-      have=$(($(wc -l < "$d/metrics.csv") - 1))
-      [ "$have" = "$want" ] || { echo "skip $d: $have of $want generations"; continue; }
-      out=results/debris/${d#runs/debris/}
-      mkdir -p "$out"
-      for f in config.toml metrics.csv best.npz frozen.npz; do
-        [ -f "$d/$f" ] && cp "$d/$f" "$out/$f"
-      done
+    for s in $SEEDS; do
+      scripts/ship_runs.sh runs/debris results/debris "runs/debris/$BUDGET-seed$s"/*/ \
+        "runs/debris/${PREFIX}flat-simples-composed-s$s"
     done
     echo "results/debris: $(ls results/debris/*/config.toml results/debris/*/*/config.toml | wc -l) runs" ;;
   status)
@@ -71,5 +61,5 @@ case $1 in
       [ -f "$d/config.toml" ] || continue
       echo "$d $(($(wc -l < "$d/metrics.csv") - 1)) generations"
     done ;;
-  *) sed -n '2,27p' "$0"; exit 2 ;;
+  *) sed -n '2,25p' "$0"; exit 2 ;;
 esac

@@ -8,16 +8,5 @@
 # A run is finished when metrics.csv has its config's generations.
 set -e
 cd "$(dirname "$0")/.."
-for d in runs/study/*/ runs/study/long/seed-*/*/; do
-  d=${d%/}
-  [ -f "$d/config.toml" ] && [ -f "$d/best.npz" ] || continue
-  want=$(sed -n 's/^generations = //p' "$d/config.toml")
-  have=$(($(wc -l < "$d/metrics.csv") - 1))
-  [ "$have" = "$want" ] || { echo "skip $d: $have of $want generations"; continue; }
-  out=results/study/${d#runs/study/}
-  mkdir -p "$out"
-  for f in config.toml metrics.csv best.npz simple.npz; do
-    [ -f "$d/$f" ] && cp "$d/$f" "$out/$f"
-  done
-done
+scripts/ship_runs.sh runs/study results/study runs/study/*/ runs/study/long/seed-*/*/
 echo "results/study: $(ls results/study/*/config.toml results/study/long/seed-*/*/config.toml | wc -l) runs"
