@@ -20,13 +20,17 @@ progress: ``successive_fitness`` in ``tasks/composed.py``). Rows:
   2 training terrains) and the generalisation gap;
 * a two-sided Mann-Whitney U test (SciPy) between groups of runs: composed
   (flat simples), composed (debris simples) and monolithic, each run's
-  held-out mean as one sample.
+  held-out mean as one sample;
+* with ``--flat-study``, the same group table on the flat floor beside it:
+  the composed and monolithic networks of those flat reproductions, each
+  scored on the flat floor (Eq. 4, no terrain) at the same physics.
 
 Usage::
 
     .venv/bin/python scripts/debris_table.py --flat results/long-seed0 \\
         results/study/long/seed-{1,2} --runs runs/debris/*/composed \\
         runs/debris/*/monolithic runs/debris/flat-simples-composed-s* \\
+        [--flat-study results/long-seed0 results/study/long/seed-*] \\
         [--substeps 12] [--json FILE]
 
 The held-out mean of a run is the mean of its fitness over the terrains
@@ -40,6 +44,7 @@ learning curve had flattened).
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import sys
 from pathlib import Path
@@ -159,6 +164,52 @@ def late_gain(best: np.ndarray) -> float:
     return float((best[-1] - best[len(best) * 2 // 3 - 1]) / abs(best[-1]))
 
 
+def flat_floor(
+    reproductions: list[Path], p: lm.LocustParams
+) -> tuple[dict[str, list[float]], dict[str, list[float]]]:
+    """Per group (composed, monolithic on the flat floor), each reproduction's
+    fitness on the flat floor at ``p``'s physics and its gain in the last
+    third."""
+    held: dict[str, list[float]] = {}
+    late: dict[str, list[float]] = {}
+    for r in reproductions:
+        for stage in ("composed", "monolithic"):
+            cfg, beh, best = rundir.load_run(r / stage)
+            model = dataclasses.replace(cfg.model, substeps=p.substeps)
+            fit = beh.evaluate(best.genome[None], model, engine=cfg.engine)[0][0]
+            held.setdefault(f"{stage} (flat floor)", []).append(float(fit))
+            curve = rundir.read_metrics(r / stage / rundir.METRICS)["best"]
+            late.setdefault(f"{stage} (flat floor)", []).append(late_gain(curve))
+    return held, late
+
+
+def group_table(
+    what: str, held: dict[str, list[float]], late: dict[str, list[float]]
+) -> list[dict]:
+    """Print per group its runs' ``what`` (one sample each), median and range,
+    and a two-sided Mann-Whitney U test between every two groups; return the
+    tests."""
+    groups = sorted(held)
+    print(f"\n| group | runs | {what} per run | median [min, max] | "
+          "gain in the last third (median) |")  # fmt: skip
+    print("| --- | --- | --- | --- | --- |")
+    for g in groups:
+        v = held[g]
+        print(f"| {g} | {len(v)} | {', '.join(f'{x:.0f}' for x in v)} | "
+              f"{np.median(v):.0f} [{min(v):.0f}, {max(v):.0f}] | "
+              f"{np.median(late[g]):.0%} |")  # fmt: skip
+    tests = []
+    for i, a in enumerate(groups):
+        for b in groups[i + 1 :]:
+            if len(held[a]) > 1 and len(held[b]) > 1:
+                t = mannwhitneyu(held[a], held[b], alternative="two-sided")
+                tests.append({"a": a, "b": b, "U": float(t.statistic),
+                              "p": float(t.pvalue)})  # fmt: skip
+                print(f"\nMann-Whitney U (two-sided), {a} vs {b}: "
+                      f"U = {t.statistic:.0f}, p = {t.pvalue:.3f}")  # fmt: skip
+    return tests
+
+
 def group_of(run: Path) -> str:
     cfg = rundir.load_config(run / rundir.CONFIG)
     if cfg.behaviour == "monolithic":
@@ -179,6 +230,9 @@ def main(argv: list[str] | None = None) -> int:
         default=[],
         help="debris-trained composed or monolithic runs",
     )
+    ap.add_argument("--flat-study", nargs="*", type=Path, default=[],
+                    help="flat-floor reproductions whose composed and "
+                    "monolithic networks make the flat-floor group table")  # fmt: skip
     ap.add_argument("--terrain-seeds", default="100-119")
     ap.add_argument("--substeps", type=int, default=lm.LocustParams().substeps,
                     help="physics substeps per control step (training: 3; "
@@ -192,6 +246,7 @@ def main(argv: list[str] | None = None) -> int:
     refs = references(args.flat, seeds, p, backend)
     table = [summary(k, v) for k, v in refs.items()]
     held: dict[str, list[float]] = {}
+    gains: dict[str, list[float]] = {}
     for r in runs:
         rows = run_rows(r, seeds, p, backend)
         row = summary(f"{group_of(r)}: {r}", rows)
@@ -207,6 +262,7 @@ def main(argv: list[str] | None = None) -> int:
         )
         table.append(row)
         held.setdefault(group_of(r), []).append(mean)
+        gains.setdefault(group_of(r), []).append(row["late_gain"])
     print(f"Debris terrains {args.terrain_seeds} (never trained on), "
           f"{args.substeps} physics substeps; fitness E: Eq. 4 above the ground "
           "under the body + 200 x forward progress (m x steps)\n")  # fmt: skip
@@ -225,22 +281,20 @@ def main(argv: list[str] | None = None) -> int:
               f"{x['jumps_before_stuck']:.1f} | {x['overturned']:.1f} / "
               f"{x['recovered']:.1f} | {x['distance_m']:.2f} | {train} | "
               f"{gap} | {late} |")  # fmt: skip
-    groups = sorted(held)
-    if groups:
-        print("\n| group | runs | held-out mean E per run | median |")
-        print("| --- | --- | --- | --- |")
-        for g in groups:
-            v = held[g]
-            print(f"| {g} | {len(v)} | {', '.join(f'{x:.0f}' for x in v)} | "
-                  f"{np.median(v):.0f} |")  # fmt: skip
-        for i, a in enumerate(groups):
-            for b in groups[i + 1 :]:
-                if len(held[a]) > 1 and len(held[b]) > 1:
-                    p = mannwhitneyu(held[a], held[b], alternative="two-sided").pvalue
-                    print(f"\nMann-Whitney U, {a} vs {b}: p = {p:.3f}")
+    out = {"table": table, "held_out": held, "late_gain": gains}
+    if held:
+        print("\nDebris, held-out terrains:")
+        out["tests"] = group_table("held-out mean E", held, gains)
+    if args.flat_study:
+        flat, flat_late = flat_floor(args.flat_study, p)
+        print(f"\nThe flat floor beside it (Eq. 4, m x steps; {args.substeps} "
+              "substeps):")  # fmt: skip
+        out["flat_floor"] = flat
+        out["flat_floor_late_gain"] = flat_late
+        out["flat_floor_tests"] = group_table("E on the flat floor", flat, flat_late)
     if args.json:
         args.json.parent.mkdir(parents=True, exist_ok=True)
-        args.json.write_text(json.dumps({"table": table, "held_out": held}, indent=1))
+        args.json.write_text(json.dumps(out, indent=1))
     return 0
 
 

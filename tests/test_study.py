@@ -45,3 +45,37 @@ def test_study_substeps_script_rescores_a_run_at_each_resolution(capsys):
     assert rows[5].split("|")[3:7] == one  # a group of one: median = min = max
     assert script.main([str(run), "--reference", "nope"]) == 2
     assert "--reference 'nope': no such group" in capsys.readouterr().err
+
+
+def test_debris_table_scores_shipped_runs_on_held_out_terrains(tmp_path, capsys):
+    """scripts/debris_table.py (docs/science.md, debris): a run's held-out
+    mean is its behaviour's fitness on those terrains, its training E the
+    recorded one, and the flat-floor table beside it re-scores the flat
+    reproductions to their recorded fitness."""
+    import importlib.util
+    import json
+
+    from locustjump.sim.scene import Debris
+
+    path = RESULTS.parent / "scripts" / "debris_table.py"
+    spec = importlib.util.spec_from_file_location("debris_table", path)
+    script = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(script)
+    runs = [RESULTS / "debris" / f"quick-seed{s}" / "monolithic" for s in (0, 1)]
+    out = tmp_path / "t.json"
+    flat_run = str(RESULTS / "long-seed0")
+    argv = ["--terrain-seeds", "100", "--runs", *map(str, runs),
+            "--flat-study", flat_run, "--json", str(out)]  # fmt: skip
+    assert script.main(argv) == 0
+    got = json.loads(out.read_text())
+    cfg, beh, best = rundir.load_run(runs[0])
+    fit = beh.on(Debris(seed=100)).evaluate(best.genome[None], cfg.model)[0][0]
+    assert got["held_out"]["monolithic (debris)"][0] == fit
+    row = next(r for r in got["table"] if str(runs[0]) in r["controller"])
+    assert row["train_fitness"] == best.fitness and row["gap"] == best.fitness - fit
+    flat = {s: rundir.load_run(RESULTS / "long-seed0" / s)[2].fitness
+            for s in ("composed", "monolithic")}  # fmt: skip
+    assert got["flat_floor"] == {f"{s} (flat floor)": [flat[s]] for s in flat}
+    text = capsys.readouterr().out
+    assert "| monolithic (debris) | 2 |" in text
+    assert "The flat floor beside it" in text
