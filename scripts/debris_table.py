@@ -8,7 +8,8 @@ ground under the body, plus 200 control steps per metre of forward
 progress: ``successive_fitness`` in ``tasks/composed.py``). Rows:
 
 * the rule-based jumper (paper §2.2), standing and on its side: its jumps
-  before it lies overturned for good (U_z < 0 for 1 s) and how far it got;
+  before it lies overturned for good (U_z < 0 for 1 s), the share of the
+  episode it spends upright (U_z >= 0) and how far it got;
 * the rules plus an evolved get-up network (``RuleGetupController``; the
   get-up network drives while U_z < 0, or while U_z < 0.5 and I6 >= 0.8, as
   in ``scripts/study_references.py``) for the flat-evolved get-up of each
@@ -59,7 +60,12 @@ from locustjump.sim.analysis import find_jumps, stuck_overturned
 from locustjump.sim.engine.backends import ThreadBackend
 from locustjump.sim.engine.rollout import rollout
 from locustjump.sim.scene import Debris
-from locustjump.tasks.composed import START_ROLL, overturns, successive_fitness
+from locustjump.tasks.composed import (
+    OVERTURNED_UZ,
+    START_ROLL,
+    overturns,
+    successive_fitness,
+)
 from locustjump.tasks.getup import rolled_starts
 from locustjump.tasks.rules import (
     DEFAULT_CHANGE_TIME,
@@ -89,6 +95,7 @@ def episodes(ctrl, params, starts, p, scene, backend) -> list[dict]:
             "overturned": over,
             "recovered": rec,
             "distance_m": float(q[-1, 0] - q[0, 0]),
+            "upright": float(np.mean(uz[1:] >= OVERTURNED_UZ)),
         })  # fmt: skip
     return rows
 
@@ -155,6 +162,7 @@ def summary(label: str, rows: list[dict]) -> dict:
         "overturned": float(np.mean([r["overturned"] for r in rows])),
         "recovered": float(np.mean([r["recovered"] for r in rows])),
         "distance_m": float(np.median([r["distance_m"] for r in rows])),
+        "upright": float(np.mean([r["upright"] for r in rows])),
     }
 
 
@@ -268,10 +276,10 @@ def main(argv: list[str] | None = None) -> int:
           "under the body + 200 x forward progress (m x steps)\n")  # fmt: skip
     print(
         "| controller | median E | mean E | jumps | jumps before stuck | "
-        "overturned / recovered | distance (m) | training E | gap | "
-        "gain in the last third |"
+        "overturned / recovered | time upright | distance (m) | training E | "
+        "gap | gain in the last third |"
     )
-    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
+    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
     for x in table:
         train = f"{x['train_fitness']:.0f}" if "train_fitness" in x else ""
         gap = f"{x['gap']:.0f}" if x.get("gap") is not None else ""
@@ -279,7 +287,8 @@ def main(argv: list[str] | None = None) -> int:
         print(f"| {x['controller']} | {x['median_fitness']:.0f} | "
               f"{x['mean_fitness']:.0f} | {x['jumps']:.1f} | "
               f"{x['jumps_before_stuck']:.1f} | {x['overturned']:.1f} / "
-              f"{x['recovered']:.1f} | {x['distance_m']:.2f} | {train} | "
+              f"{x['recovered']:.1f} | {x['upright']:.0%} | "
+              f"{x['distance_m']:.2f} | {train} | "
               f"{gap} | {late} |")  # fmt: skip
     out = {"table": table, "held_out": held, "late_gain": gains}
     if held:
