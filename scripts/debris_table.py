@@ -222,8 +222,10 @@ def group_of(run: Path) -> str:
     cfg = rundir.load_config(run / rundir.CONFIG)
     if cfg.behaviour == "monolithic":
         return "monolithic (debris)"
-    return "composed, flat simples" if "flat-simples" in str(run) else (
-        "composed, debris simples")  # fmt: skip
+    if "flat-simples" in str(run):
+        return "composed, flat simples"
+    k = len(rundir.load_run(run)[1].terrains.scenes)
+    return "composed, debris simples" + ("" if k == 2 else f", {k} terrains")
 
 
 def main(argv: list[str] | None = None) -> int:
