@@ -9,7 +9,8 @@ progress: ``successive_fitness`` in ``tasks/composed.py``). Rows:
 
 * the rule-based jumper (paper §2.2), standing and on its side: its jumps
   before it lies overturned for good (U_z < 0 for 1 s), the share of the
-  episode it spends upright (U_z >= 0) and how far it got;
+  episode it spends upright (U_z >= 0), beside the rubble (|y| beyond the
+  field's half width: it went round the debris) and how far it got;
 * the rules plus an evolved get-up network (``RuleGetupController``; the
   get-up network drives while U_z < 0, or while U_z < 0.5 and I6 >= 0.8, as
   in ``scripts/study_references.py``) for the flat-evolved get-up of each
@@ -81,6 +82,7 @@ def episodes(ctrl, params, starts, p, scene, backend) -> list[dict]:
     """Debris fitness, jumps, overturns of each controller row of ``params``."""
     res = rollout(ctrl, params, starts, STEPS, model_params=p, scene=scene,
                   record=("qpos", "obs"), backend=backend)  # fmt: skip
+    half = scene.width / 2 * p.body_length  # the rubble's half width (m)
     rows = []
     for q, obs, bad in zip(res["qpos"], res["obs"], res.unstable, strict=True):
         uz = obs[:, 8]
@@ -96,6 +98,7 @@ def episodes(ctrl, params, starts, p, scene, backend) -> list[dict]:
             "recovered": rec,
             "distance_m": float(q[-1, 0] - q[0, 0]),
             "upright": float(np.mean(uz[1:] >= OVERTURNED_UZ)),
+            "off_field": float(np.mean(np.abs(q[1:, 1]) > half)),
         })  # fmt: skip
     return rows
 
@@ -163,6 +166,7 @@ def summary(label: str, rows: list[dict]) -> dict:
         "recovered": float(np.mean([r["recovered"] for r in rows])),
         "distance_m": float(np.median([r["distance_m"] for r in rows])),
         "upright": float(np.mean([r["upright"] for r in rows])),
+        "off_field": float(np.mean([r["off_field"] for r in rows])),
     }
 
 
@@ -278,10 +282,10 @@ def main(argv: list[str] | None = None) -> int:
           "under the body + 200 x forward progress (m x steps)\n")  # fmt: skip
     print(
         "| controller | median E | mean E | jumps | jumps before stuck | "
-        "overturned / recovered | time upright | distance (m) | training E | "
-        "gap | gain in the last third |"
+        "overturned / recovered | time upright | time beside the rubble | "
+        "distance (m) | training E | gap | gain in the last third |"
     )
-    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
+    print("| --- " * 12 + "|")
     for x in table:
         train = f"{x['train_fitness']:.0f}" if "train_fitness" in x else ""
         gap = f"{x['gap']:.0f}" if x.get("gap") is not None else ""
@@ -289,7 +293,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"| {x['controller']} | {x['median_fitness']:.0f} | "
               f"{x['mean_fitness']:.0f} | {x['jumps']:.1f} | "
               f"{x['jumps_before_stuck']:.1f} | {x['overturned']:.1f} / "
-              f"{x['recovered']:.1f} | {x['upright']:.0%} | "
+              f"{x['recovered']:.1f} | {x['upright']:.0%} | {x['off_field']:.0%} | "
               f"{x['distance_m']:.2f} | {train} | "
               f"{gap} | {late} |")  # fmt: skip
     out = {"table": table, "held_out": held, "late_gain": gains}
