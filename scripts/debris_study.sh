@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Issue #30: successive jumping across debris. Every run trains on 2 terrains
-# (debris seeds 0 and 1, fitness their mean) and is tested on terrains 100-119
-# it never saw (scripts/debris_table.py). Rerun to continue: reproductions
+# (debris seeds 0 and 1, fitness their mean; the walled field, today's
+# default: results/debris-open/ holds the runs made on the open field before)
+# and is tested on terrains 100-119 it never saw (scripts/debris_table.py). Rerun to continue: reproductions
 # and runs resume from their checkpoints. SEEDS="0 1 2" narrows it; BUDGET
 # (quick, the default, or long) is the reproduction's budget and sets the
 # composed stage's generations in `flat` (quick 30, long 120).
@@ -17,6 +18,8 @@
 #                              results/study/long/seed-<s>), into
 #                              runs/debris/flat-simples-composed-s<s>/ (quick)
 #                              or runs/debris/long-flat-simples-composed-s<s>/
+#   scripts/debris_study.sh both       reproduce, then flat, seed by seed (a
+#                              seed's two arms finish before the next starts)
 #   scripts/debris_study.sh ship       copy the seeds' finished runs (both
 #                              arms) into results/debris/, same names
 #                              (scripts/ship_runs.sh: genomes, metrics,
@@ -50,6 +53,11 @@ case $1 in
       fi
       $BIN train composed --seed "$s" --generations "$COMPOSED" --quiet --out "$d" $how
     done ;;
+  both)
+    for s in $SEEDS; do
+      SEEDS=$s "$0" reproduce
+      SEEDS=$s "$0" flat
+    done ;;
   ship)
     for s in $SEEDS; do
       scripts/ship_runs.sh runs/debris results/debris "runs/debris/$BUDGET-seed$s"/*/ \
@@ -61,5 +69,5 @@ case $1 in
       [ -f "$d/config.toml" ] || continue
       echo "$d $(($(wc -l < "$d/metrics.csv") - 1)) generations"
     done ;;
-  *) sed -n '2,25p' "$0"; exit 2 ;;
+  *) sed -n '2,27p' "$0"; exit 2 ;;
 esac

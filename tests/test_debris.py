@@ -85,6 +85,7 @@ def test_heights_are_the_box_tops_and_the_clearing_is_free():
         ({"seed": -1}, "seed"),
         ({"spacing": 0.02}, f"at most {MAX_BOXES:,}"),
         ({"length": 1000, "width": 1000, "spacing": 100}, "too large"),
+        ({"wall_height": -1}, "wall_height"),
     ],
 )
 def test_bad_debris_parameters_are_named(change, message):
@@ -103,6 +104,61 @@ def test_the_boxes_collide_with_the_creature_only():
     flat = lm.load_model(P)
     assert (flat.geom_contype == 0).all()  # the floor's model is as before
     assert m.npair == flat.npair
+
+
+def test_walls_close_the_field_and_are_not_ground():
+    m = lm.load_model(P, Debris())
+    walls = [i for i in range(m.ngeom) if m.geom(i).name.startswith(names.WALL)]
+    assert len(walls) == 4
+    assert (m.geom_contype[walls] == 0).all() and (m.geom_conaffinity[walls] == 1).all()
+    assert np.allclose(m.geom_size[walls, 2], Debris().wall_height * BL / 2)
+    # their inner faces are the field's edges: left, right, back, front
+    w = Debris().walls(BL)
+    inner = [w[0, 1] - w[0, 3] / 2, w[1, 1] + w[1, 3] / 2,
+             w[2, 0] + w[2, 2] / 2, w[3, 0] - w[3, 2] / 2]  # fmt: skip
+    d = Debris()
+    assert np.allclose(
+        inner, np.array([d.width / 2, -d.width / 2, -d.behind, d.length]) * BL
+    )
+    open_field = Debris(wall_height=0)
+    assert open_field.walls(BL).shape == (0, 4)
+    assert names.WALL not in open_field.mjcf(BL).worldbody
+    x, y = np.meshgrid(np.linspace(-2, 14, 200), np.linspace(-2, 2, 80))
+    np.testing.assert_array_equal(d.heights(x, y, BL), open_field.heights(x, y, BL))
+
+
+@pytest.mark.parametrize("substeps", [3, 12])
+def test_the_walls_stop_a_creature_thrown_at_them(substeps):
+    """Thrown sideways at 6 m/s, or backwards, the creature bounces off the
+    walls: its body centre stays inside the field, nothing blows up or sinks
+    in deeper than the gates allow."""
+    p = P.replace(substeps=substeps)
+    scene = Debris(seed=2)
+    for vx, vy in ((0.0, 6.0), (0.0, -6.0), (-6.0, 0.0)):
+        s = ready_state(p, scene)  # cached: changed on a copy
+        start = StartStates(s.qpos.copy(), s.qvel.copy(), s.ctrl.copy())
+        start.qvel[0, :3] = (vx, vy, 2.0)
+        ctrl = np.repeat(start.ctrl, 400, axis=0)
+        pen, d = _replay_penetration(p, scene, ctrl, start)
+        lo, hi = -scene.behind * BL, scene.width / 2 * BL
+        assert lo < d.qpos[0] and abs(d.qpos[1]) < hi, (vx, vy, d.qpos[:3])
+        gap = hi - abs(d.qpos[1]) if vy else d.qpos[0] - lo
+        assert gap < BL  # it got there: it lies against the wall
+        assert np.isfinite(d.qpos).all() and d.warning.number.sum() == 0
+        assert pen < 0.05 * BL
+
+
+def test_debris_configs_written_before_the_walls_read_as_an_open_field():
+    """A shipped run's [scene] (every parameter but wall_height) has no walls
+    and keeps its hash; a partial table gets today's walls."""
+    path = rundir.SHIPPED / "debris-open" / "long-seed0" / "monolithic"
+    cfg = rundir.load_config(path / rundir.CONFIG)
+    assert cfg.scene.scene.wall_height == 0
+    assert cfg.hash() == "d45a286a71b68113"  # as before the walls existed
+    partial = TrainConfig.from_dict({"scene": {"kind": "debris", "seed": 3}}, "x")
+    assert partial.scene.scene.wall_height == Debris().wall_height > 0
+    walled = cfg.replace(scene=Terrains(Debris(), 2))
+    assert walled.hash() != cfg.replace(scene=Terrains(Debris(wall_height=0), 2)).hash()
 
 
 def test_start_states_are_upright_and_at_rest_on_the_terrain():

@@ -101,14 +101,14 @@ def test_evolved_genome_gets_engine_fitness(shipped, stage, task):
 def test_debris_genome_gets_engine_fitness_on_each_terrain():
     """On a terrain the successive jump's return is the debris fitness (height
     above the ground under the body plus progress): a monolithic network
-    trained on debris terrains 0 and 1 (results/debris) gets, through the
+    trained on debris terrains 0 and 1 (results/debris-open) gets, through the
     environment on each of them, the NumPy engine's fitness there (the
     environment steps as that engine does; the compiled one it was trained on
     differs by a few ulp a step, which 3000 chaotic steps among rubble can
     grow into another trajectory, docs/performance.md)."""
     from pathlib import Path
 
-    run = Path(__file__).resolve().parent.parent / "results/debris/quick-seed0"
+    run = Path(__file__).resolve().parent.parent / "results/debris-open/quick-seed0"
     cfg, beh, best = rundir.load_run(run / "monolithic")
     scenes = beh.terrains.scenes
     assert len(scenes) == 2 and not scenes[1].is_flat

@@ -1,7 +1,8 @@
 """The runs shipped in results/ — the study's (issue #20, docs/science.md), the
-debris study's (issue #30, results/debris/) and every stage of the shipped
-reproductions: every best genome re-simulates to its
-recorded fitness, bit for bit, on the engine path its config.toml names."""
+debris study's (issue #30: results/debris/, and results/debris-open/ from the
+open field before the walls) and every stage of the shipped reproductions:
+every best genome re-simulates to its recorded fitness, bit for bit, on the
+engine path its config.toml names."""
 
 from pathlib import Path
 
@@ -11,7 +12,7 @@ import pytest
 from locustjump import rundir
 
 RESULTS = Path(__file__).resolve().parent.parent / "results"
-SHIPPED = ("*/*", "study/long/seed-*/*", "debris/*-seed*/*")
+SHIPPED = ("*/*", "study/long/seed-*/*", "debris*/*-seed*/*")
 RUNS = sorted(d for p in SHIPPED for d in RESULTS.glob(p) if rundir.is_run(d))
 
 
@@ -61,7 +62,7 @@ def test_debris_table_scores_shipped_runs_on_held_out_terrains(tmp_path, capsys)
     spec = importlib.util.spec_from_file_location("debris_table", path)
     script = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(script)
-    runs = [RESULTS / "debris" / f"quick-seed{s}" / "monolithic" for s in (0, 1)]
+    runs = [RESULTS / "debris-open" / f"quick-seed{s}" / "monolithic" for s in (0, 1)]
     out = tmp_path / "t.json"
     flat_run = str(RESULTS / "long-seed0")
     argv = ["--terrain-seeds", "100", "--runs", *map(str, runs),
@@ -69,7 +70,10 @@ def test_debris_table_scores_shipped_runs_on_held_out_terrains(tmp_path, capsys)
     assert script.main(argv) == 0
     got = json.loads(out.read_text())
     cfg, beh, best = rundir.load_run(runs[0])
-    fit = beh.on(Debris(seed=100)).evaluate(best.genome[None], cfg.model)[0][0]
+    # held out: terrain 100 of the run's own field (the open one: no walls)
+    here = beh.on(beh.terrains.scene.with_seed(100))
+    assert here.scene == Debris(seed=100, wall_height=0)
+    fit = here.evaluate(best.genome[None], cfg.model)[0][0]
     assert got["held_out"]["monolithic (debris)"][0] == fit
     row = next(r for r in got["table"] if str(runs[0]) in r["controller"])
     assert row["train_fitness"] == best.fitness and row["gap"] == best.fitness - fit

@@ -36,7 +36,12 @@ from typing import Any
 
 from locustjump.errors import UserError
 from locustjump.evo import RCGAParams, params_class
-from locustjump.rundir.migrations import CONFIG_FORMAT, hashed_config, migrate_config
+from locustjump.rundir.migrations import (
+    CONFIG_FORMAT,
+    hashed_config,
+    migrate_config,
+    scene_before,
+)
 from locustjump.sim import model as lm
 from locustjump.sim.engine.job import DEFAULT_ENGINE, ENGINES
 from locustjump.sim.scene import DEFAULT_SCENE, Terrains, scene_class
@@ -188,7 +193,8 @@ def terrains_from_table(table: Any, source: str) -> Terrains:
     top = {"terrains": 1, "aggregate": "mean"}
     extra = {k: coerce(table.pop(k), v, f"scene.{k}", source)
              for k, v in top.items() if k in table}  # fmt: skip
-    scene = from_table(cls, table, "scene", source)
+    fields = [f.name for f in dataclasses.fields(cls)]
+    scene = from_table(cls, scene_before(cls.name, table, fields), "scene", source)
     try:
         return Terrains(scene, extra.get("terrains", 1), extra.get("aggregate", "mean"))
     except ValueError as e:

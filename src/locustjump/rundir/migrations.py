@@ -25,6 +25,15 @@ checked by :func:`npz_format`): a checkpoint written before optimizers were
 pluggable names no optimizer and holds the RCGA's state unprefixed
 (:func:`checkpoint_state`).
 
+``[scene]`` (wherever it is read: ``config.toml``, ``reproduce.toml``, a
+rule-based run's ``summary.json``, a ``--scene`` file; :func:`scene_before`):
+a scene parameter added after runs were shipped (:data:`SCENE_FIELDS_LATER`:
+the debris field's ``wall_height``, 2026-11-24) is absent from a table that
+names every other parameter of its scene, as locustjump wrote it before:
+there it takes the value its absence meant (no walls). A partial table, as a
+person writes one, gets today's default. It is in the hash only when not at
+that value, so those runs keep theirs.
+
 ``reproduce.toml``: keys added later take the value their absence meant
 (:func:`reproduction_marker`). ``summary.json`` of a rule-based run: the
 engine under ``model`` as above (:func:`rules_summary`). The frozen genomes
@@ -59,6 +68,9 @@ MARKER_BEFORE = {
 STATE_PREFIX = "opt_"
 #: what checkpoints written before optimizers were pluggable hold (the RCGA's)
 RCGA_STATE_BEFORE = ("generation", "population", "fitness", "rng_state")
+#: ``[scene]`` parameters added after runs were shipped, per scene kind, and
+#: what their absence meant
+SCENE_FIELDS_LATER: dict[str, dict[str, Any]] = {"debris": {"wall_height": 0.0}}
 #: ``[model]`` fields added after runs were shipped: in the hash only when not
 #: at their default (the creature those runs used)
 MODEL_FIELDS_LATER = ("strut_stiffness", "strut_damping", "strut_swing")
@@ -108,6 +120,17 @@ def migrate_config(d: dict[str, Any], source: str) -> dict[str, Any]:
     return d
 
 
+def scene_before(kind: str, table: dict[str, Any], fields: list[str]) -> dict[str, Any]:
+    """A ``[scene]`` table (without ``kind``) of scene ``kind`` whose
+    parameters are ``fields``, with the parameters added later filled in
+    where locustjump wrote it before they existed (it names every other)."""
+    later = SCENE_FIELDS_LATER.get(kind, {})
+    missing = [f for f in fields if f not in table]
+    if later and missing and set(missing) <= set(later):
+        return {**table, **{f: later[f] for f in missing}}
+    return table
+
+
 def hashed_config(
     d: dict[str, Any],
     model_defaults: dict[str, Any],
@@ -132,6 +155,10 @@ def hashed_config(
     for name in MODEL_FIELDS_LATER:
         if d["model"][name] == model_defaults[name]:
             del d["model"][name]
+    scene = d.get("scene", {})
+    for name, before in SCENE_FIELDS_LATER.get(scene.get("kind"), {}).items():
+        if scene.get(name) == before:
+            del scene[name]
     if "frozen_digest" in d:
         d["simple"] = d.pop("frozen_digest")
     if options_default:  # runs made before options

@@ -7,6 +7,7 @@ HEAD = "head"
 ROOT_JOINT = "root"  #: the free joint of the body
 FLOOR = "floor"
 DEBRIS = "debris"  # prefix of the debris scene's boxes: debris0, debris1, ...
+WALL = "wall"  # prefix of the walls around a debris field: wall0 ... wall3
 READY_KEY = "ready"  #: keyframe of the settled start state (Fig. 4)
 
 SIDES = ("l", "r")  #: left (+y) and right (-y)

@@ -116,6 +116,8 @@ MAX_CELLS = 20_000_000
 #: Cell of the height grid the fitness reads the ground's height from (body
 #: lengths; 1 cm at the default size).
 HEIGHT_CELL_BL = 0.02
+#: Thickness of the walls around a debris field (body lengths).
+WALL_THICKNESS_BL = 1.0
 
 
 @dataclass(frozen=True)
@@ -138,7 +140,7 @@ class Debris(Flat):
     name: ClassVar[str] = "debris"
     _BL_FIELDS: ClassVar[tuple[str, ...]] = (
         "length", "behind", "width", "spacing",
-        "size_min", "size_max", "height_min", "height_max",
+        "size_min", "size_max", "height_min", "height_max", "wall_height",
     )  # fmt: skip
 
     seed: int = 0  #: the terrain (not the evolution's seed)
@@ -151,7 +153,9 @@ class Debris(Flat):
     height_min: float = 0.05  #: (body lengths) lowest box
     height_max: float = 0.4  #: (body lengths) highest box
     clearing: float = 1.0  #: (body lengths) radius kept free around the start
-    friction: float = 1.0  #: (-) sliding friction of the boxes
+    friction: float = 1.0  #: (-) sliding friction of the boxes and walls
+    #: (body lengths) of the walls around the field; 0: an open field
+    wall_height: float = 8.0
 
     def __post_init__(self) -> None:
         if isinstance(self.seed, bool) or not isinstance(self.seed, int):
@@ -171,6 +175,11 @@ class Debris(Flat):
                 raise ValueError(
                     f"{key} must be in (0, 1000] body lengths, got {getattr(self, key)}"
                 )
+        if not 0 <= self.wall_height <= 1000:
+            raise ValueError(
+                f"wall_height must be in [0, 1000] body lengths (0: no walls), "
+                f"got {self.wall_height}"
+            )
         if not 0 <= self.behind <= 1000:
             raise ValueError(
                 f"behind must be in [0, 1000] body lengths, got {self.behind}"
@@ -214,8 +223,26 @@ class Debris(Flat):
         boxes (``count`` drawn, those reaching into the clearing left out)."""
         return _boxes(self) * np.array([body_length] * 2 + [1.0] + [body_length] * 3)
 
+    def walls(self, body_length: float) -> np.ndarray:
+        """(n, 4): centre x, y and sides x, y (m) of the walls around the
+        field, outside it (none when ``wall_height`` is 0): left, right, back,
+        front."""
+        if self.wall_height == 0:
+            return np.empty((0, 4))
+        t = WALL_THICKNESS_BL
+        x0, x1, w = -self.behind - t, self.length + t, self.width / 2
+        mid, span = (x0 + x1) / 2, x1 - x0
+        out = np.array([
+            [mid, w + t / 2, span, t],
+            [mid, -w - t / 2, span, t],
+            [-self.behind - t / 2, 0.0, t, 2 * w],
+            [self.length + t / 2, 0.0, t, 2 * w],
+        ])  # fmt: skip
+        return out * body_length
+
     def mjcf(self, body_length: float) -> SceneMJCF:
-        """The floor (its pairs) and the boxes ``debris0`` ... (broad phase)."""
+        """The floor (its pairs), the boxes ``debris0`` ... and the walls
+        ``wall0`` ... (broad phase)."""
         floor = super().mjcf(body_length)
         # the boxes collide through the broad phase (117 boxes as explicit
         # pairs: 1,416 pairs, mj_step 2.5x the floor's; broad phase: 1.6x);
@@ -233,9 +260,17 @@ class Debris(Flat):
                 f'euler="0 0 {math.degrees(yaw):.9g}" '
                 f'size="{sx / 2:.9g} {sy / 2:.9g} {h / 2:.9g}"/>'
             )
+        for i, (x, y, sx, sy) in enumerate(self.walls(body_length)):
+            h = self.wall_height * body_length
+            geoms.append(
+                f'<geom name="{names.WALL}{i}" type="box" material="wall" '
+                f'{contact} pos="{x:.9g} {y:.9g} {h / 2:.9g}" '
+                f'size="{sx / 2:.9g} {sy / 2:.9g} {h / 2:.9g}"/>'
+            )
         return SceneMJCF(
             assets=floor.assets
-            + '\n    <material name="rubble" rgba="0.55 0.47 0.38 1" reflectance="0"/>',
+            + '\n    <material name="rubble" rgba="0.55 0.47 0.38 1" reflectance="0"/>'
+            + '\n    <material name="wall" rgba="0.6 0.65 0.7 0.2" reflectance="0"/>',
             worldbody=floor.worldbody + "\n    " + "\n    ".join(geoms),
             geoms=floor.geoms,
             broad_phase=True,
