@@ -135,7 +135,9 @@ def test_the_walls_stop_a_creature_thrown_at_them(substeps):
     p = P.replace(substeps=substeps)
     scene = Debris(seed=2)
     for vx, vy in ((0.0, 6.0), (0.0, -6.0), (-6.0, 0.0)):
-        s = ready_state(p, scene)  # cached: changed on a copy
+        s = ready_state(p, scene)
+        with pytest.raises(ValueError, match="read-only"):  # cached and shared
+            s.qvel[0, 0] = 1.0
         start = StartStates(s.qpos.copy(), s.qvel.copy(), s.ctrl.copy())
         start.qvel[0, :3] = (vx, vy, 2.0)
         ctrl = np.repeat(start.ctrl, 400, axis=0)

@@ -27,10 +27,15 @@ def ground_top(p: lm.LocustParams, scene: Scene) -> float:
 @functools.lru_cache(maxsize=16)
 def ready_state(p: lm.LocustParams, scene: Scene = Flat()) -> StartStates:
     """The Fig. 4 start state: keyframe ``ready`` on the flat floor; on a
-    terrain, that posture settled on it (:func:`settle`)."""
+    terrain, that posture settled on it (:func:`settle`). Cached and shared:
+    its arrays are read-only (copy them to change a start)."""
     if scene.is_flat:
-        return StartStates.ready(lm.load_model(p))
-    return settle(p, seconds=READY_SETTLE, scene=scene)
+        s = StartStates.ready(lm.load_model(p))
+    else:
+        s = settle(p, seconds=READY_SETTLE, scene=scene)
+    for a in (s.qpos, s.qvel, s.ctrl):
+        a.flags.writeable = False
+    return s
 
 
 def settle(
