@@ -112,6 +112,9 @@ def test_walls_close_the_field_and_are_not_ground():
     assert len(walls) == 4
     assert (m.geom_contype[walls] == 0).all() and (m.geom_conaffinity[walls] == 1).all()
     assert np.allclose(m.geom_size[walls, 2], Debris().wall_height * BL / 2)
+    # frictionless, and that is theirs: no leg can climb them
+    assert (m.geom_condim[walls] == 1).all()
+    assert m.geom_priority[walls].min() > m.geom_priority[m.geom_bodyid != 0].max()
     # their inner faces are the field's edges: left, right, back, front
     w = Debris().walls(BL)
     inner = [w[0, 1] - w[0, 3] / 2, w[1, 1] + w[1, 3] / 2,
@@ -131,7 +134,7 @@ def test_walls_close_the_field_and_are_not_ground():
 def test_the_walls_stop_a_creature_thrown_at_them(substeps):
     """Thrown sideways at 6 m/s, or backwards, the creature bounces off the
     walls: its body centre stays inside the field, nothing blows up or sinks
-    in deeper than the gates allow."""
+    in deeper than the gates allow; the walls push along their normal only."""
     p = P.replace(substeps=substeps)
     scene = Debris(seed=2)
     for vx, vy in ((0.0, 6.0), (0.0, -6.0), (-6.0, 0.0)):
@@ -148,6 +151,17 @@ def test_the_walls_stop_a_creature_thrown_at_them(substeps):
         assert gap < BL  # it got there: it lies against the wall
         assert np.isfinite(d.qpos).all() and d.warning.number.sum() == 0
         assert pen < 0.05 * BL
+    m = lm.load_model(p, scene)
+    d = mujoco.MjData(m)
+    d.qpos[:], d.ctrl[:] = start.qpos[0], start.ctrl[0]
+    d.qvel[:3] = (0.0, 6.0, 2.0)
+    dims = []
+    for _ in range(400 * substeps):
+        mujoco.mj_step(m, d)
+        pairs = [(c.dim, m.geom(c.geom1).name + m.geom(c.geom2).name)
+                 for c in d.contact[: d.ncon]]  # fmt: skip
+        dims += [int(dim) for dim, pair in pairs if names.WALL in pair]
+    assert dims and set(dims) == {1}
 
 
 def test_debris_configs_written_before_the_walls_read_as_an_open_field():

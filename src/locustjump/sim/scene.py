@@ -153,7 +153,7 @@ class Debris(Flat):
     height_min: float = 0.05  #: (body lengths) lowest box
     height_max: float = 0.4  #: (body lengths) highest box
     clearing: float = 1.0  #: (body lengths) radius kept free around the start
-    friction: float = 1.0  #: (-) sliding friction of the boxes and walls
+    friction: float = 1.0  #: (-) sliding friction of the boxes
     #: (body lengths) of the walls around the field; 0: an open field
     wall_height: float = 8.0
 
@@ -260,11 +260,16 @@ class Debris(Flat):
                 f'euler="0 0 {math.degrees(yaw):.9g}" '
                 f'size="{sx / 2:.9g} {sy / 2:.9g} {h / 2:.9g}"/>'
             )
+        # the walls are frictionless (condim 1, theirs by priority): pushed
+        # against, they push back horizontally only, so that no leg can climb
+        # them (with the boxes' friction a network learnt to wall-jump 4.9 m
+        # high and over them)
+        wall = 'contype="0" conaffinity="1" priority="2" condim="1"'
         for i, (x, y, sx, sy) in enumerate(self.walls(body_length)):
             h = self.wall_height * body_length
             geoms.append(
                 f'<geom name="{names.WALL}{i}" type="box" material="wall" '
-                f'{contact} pos="{x:.9g} {y:.9g} {h / 2:.9g}" '
+                f'{wall} pos="{x:.9g} {y:.9g} {h / 2:.9g}" '
                 f'size="{sx / 2:.9g} {sy / 2:.9g} {h / 2:.9g}"/>'
             )
         return SceneMJCF(
