@@ -10,7 +10,10 @@ progress: ``successive_fitness`` in ``tasks/composed.py``). Rows:
 * the rule-based jumper (paper §2.2), standing and on its side: its jumps
   before it lies overturned for good (U_z < 0 for 1 s), the share of the
   episode it spends upright (U_z >= 0), beside the rubble (|y| beyond the
-  field's half width: it went round the debris) and how far it got;
+  field's half width: it went round the debris), how far it got and how
+  high its body rose above the ground under it on any terrain (a check on
+  the physics and the walls: no jump should rise far above the rule's
+  1.6 m);
 * the rules plus an evolved get-up network (``RuleGetupController``; the
   get-up network drives while U_z < 0, or while U_z < 0.5 and I6 >= 0.8, as
   in ``scripts/study_references.py``) for the flat-evolved get-up of each
@@ -97,6 +100,9 @@ def episodes(ctrl, params, starts, p, scene, backend) -> list[dict]:
             "overturned": over,
             "recovered": rec,
             "distance_m": float(q[-1, 0] - q[0, 0]),
+            "highest_m": float(
+                (q[:, 2] - scene.heights(q[:, 0], q[:, 1], p.body_length)).max()
+            ),
             "upright": float(np.mean(uz[1:] >= OVERTURNED_UZ)),
             "off_field": float(np.mean(np.abs(q[1:, 1]) > half)),
         })  # fmt: skip
@@ -165,6 +171,7 @@ def summary(label: str, rows: list[dict]) -> dict:
         "overturned": float(np.mean([r["overturned"] for r in rows])),
         "recovered": float(np.mean([r["recovered"] for r in rows])),
         "distance_m": float(np.median([r["distance_m"] for r in rows])),
+        "highest_m": float(max(r["highest_m"] for r in rows)),  # any terrain
         "upright": float(np.mean([r["upright"] for r in rows])),
         "off_field": float(np.mean([r["off_field"] for r in rows])),
     }
@@ -283,9 +290,9 @@ def main(argv: list[str] | None = None) -> int:
     print(
         "| controller | median E | mean E | jumps | jumps before stuck | "
         "overturned / recovered | time upright | time beside the rubble | "
-        "distance (m) | training E | gap | gain in the last third |"
+        "distance (m) | highest (m) | training E | gap | gain in the last third |"
     )
-    print("| --- " * 12 + "|")
+    print("| --- " * 13 + "|")
     for x in table:
         train = f"{x['train_fitness']:.0f}" if "train_fitness" in x else ""
         gap = f"{x['gap']:.0f}" if x.get("gap") is not None else ""
@@ -294,7 +301,7 @@ def main(argv: list[str] | None = None) -> int:
               f"{x['mean_fitness']:.0f} | {x['jumps']:.1f} | "
               f"{x['jumps_before_stuck']:.1f} | {x['overturned']:.1f} / "
               f"{x['recovered']:.1f} | {x['upright']:.0%} | {x['off_field']:.0%} | "
-              f"{x['distance_m']:.2f} | {train} | "
+              f"{x['distance_m']:.2f} | {x['highest_m']:.2f} | {train} | "
               f"{gap} | {late} |")  # fmt: skip
     out = {"table": table, "held_out": held, "late_gain": gains}
     if held:

@@ -56,6 +56,7 @@ def test_debris_table_scores_shipped_runs_on_held_out_terrains(tmp_path, capsys)
     import importlib.util
     import json
 
+    from locustjump.sim.engine.rollout import rollout
     from locustjump.sim.scene import Debris
 
     path = RESULTS.parent / "scripts" / "debris_table.py"
@@ -77,6 +78,13 @@ def test_debris_table_scores_shipped_runs_on_held_out_terrains(tmp_path, capsys)
     assert got["held_out"]["monolithic (debris)"][0] == fit
     row = next(r for r in got["table"] if str(runs[0]) in r["controller"])
     assert row["train_fitness"] == best.fitness and row["gap"] == best.fitness - fit
+    # the highest the body rose above the ground under it in that episode
+    res = rollout(here.controller, best.genome[None], here.start_states(cfg.model),
+                  script.STEPS, model_params=cfg.model, record=("qpos",),
+                  scene=here.scene)  # fmt: skip
+    q = res["qpos"][0]
+    ground = here.scene.heights(q[:, 0], q[:, 1], cfg.model.body_length)
+    assert row["highest_m"] == (q[:, 2] - ground).max()
     flat = {s: rundir.load_run(RESULTS / "long-seed0" / s)[2].fitness
             for s in ("composed", "monolithic")}  # fmt: skip
     assert got["flat_floor"] == {f"{s} (flat floor)": [flat[s]] for s in flat}
