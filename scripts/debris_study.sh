@@ -2,8 +2,8 @@
 # Issue #30: successive jumping across debris. Every run trains on 2 terrains
 # (debris seeds 0 and 1, fitness their mean; the walled field, today's
 # default: results/debris-open/ holds the runs made on the open field before)
-# and is tested on terrains 100-119 it never saw (scripts/debris_table.py). Rerun to continue: reproductions
-# and runs resume from their checkpoints. SEEDS="0 1 2" narrows it; BUDGET
+# and is tested on terrains 100-119 it never saw (scripts/debris_table.py).
+# Rerun to continue: reproductions and runs resume from their checkpoints. SEEDS="0 1 2" narrows it; BUDGET
 # (quick, the default, or long) is the reproduction's budget and sets the
 # composed stage's generations in `flat` (quick 30, long 120).
 #
