@@ -26,12 +26,12 @@ import dataclasses
 import math
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
-from functools import lru_cache
 from typing import ClassVar
 
 import numpy as np
 
-from locustjump.sim import names
+from locustjump.sim import names, rubble
+from locustjump.sim.rubble import HEIGHT_CELL_BL
 
 
 @dataclass(frozen=True)
@@ -113,11 +113,6 @@ MAX_BOXES = 2000
 MAX_TERRAINS = 64
 #: Most cells of a terrain's height grid (8 bytes each: 160 MB).
 MAX_CELLS = 20_000_000
-#: Cell of the height grid the fitness reads the ground's height from (body
-#: lengths; 1 cm at the default size).
-HEIGHT_CELL_BL = 0.02
-#: Thickness of the walls around a debris field (body lengths).
-WALL_THICKNESS_BL = 1.0
 
 
 @dataclass(frozen=True)
@@ -221,7 +216,8 @@ class Debris(Flat):
     def boxes(self, body_length: float) -> np.ndarray:
         """(n, 6): centre x, y, yaw (rad), side x, side y, height (m) of the
         boxes (``count`` drawn, those reaching into the clearing left out)."""
-        return _boxes(self) * np.array([body_length] * 2 + [1.0] + [body_length] * 3)
+        scale = np.array([body_length] * 2 + [1.0] + [body_length] * 3)
+        return rubble.boxes(self) * scale
 
     def walls(self, body_length: float) -> np.ndarray:
         """(n, 4): centre x, y and sides x, y (m) of the walls around the
@@ -229,7 +225,7 @@ class Debris(Flat):
         front."""
         if self.wall_height == 0:
             return np.empty((0, 4))
-        t = WALL_THICKNESS_BL
+        t = rubble.WALL_THICKNESS_BL
         x0, x1, w = -self.behind - t, self.length + t, self.width / 2
         mid, span = (x0 + x1) / 2, x1 - x0
         out = np.array([
@@ -285,7 +281,7 @@ class Debris(Flat):
         """The top of the highest box over each point (0 on the floor), read
         from a grid of ``HEIGHT_CELL_BL`` cells (the box edges are exact to one
         cell)."""
-        x0, y0, cell, grid = _height_grid(self, body_length)
+        x0, y0, cell, grid = rubble.height_grid(self, body_length)
         x, y = np.broadcast_arrays(np.asarray(x, float), np.asarray(y, float))
         i = np.floor((x - x0) / cell).astype(np.int64)
         j = np.floor((y - y0) / cell).astype(np.int64)
@@ -293,53 +289,6 @@ class Debris(Flat):
         out = np.zeros(x.shape)
         out[inside] = grid[i[inside], j[inside]]
         return out
-
-
-@lru_cache(maxsize=64)
-def _boxes(d: Debris) -> np.ndarray:
-    """The boxes of terrain ``d`` in body lengths (yaw in radians)."""
-    rng = np.random.default_rng(d.seed)
-    n = d.count
-    out = np.empty((n, 6))
-    out[:, 0] = rng.uniform(-d.behind, d.length, n)
-    out[:, 1] = rng.uniform(-d.width / 2, d.width / 2, n)
-    out[:, 2] = rng.uniform(0.0, math.pi / 2, n)
-    out[:, 3] = rng.uniform(d.size_min, d.size_max, n)
-    out[:, 4] = rng.uniform(d.size_min, d.size_max, n)
-    out[:, 5] = rng.uniform(d.height_min, d.height_max, n)
-    # conservative: a box's half diagonal against the clearing's radius
-    reach = np.hypot(out[:, 3], out[:, 4]) / 2
-    out = out[np.hypot(out[:, 0], out[:, 1]) >= d.clearing + reach]
-    out.flags.writeable = False
-    return out
-
-
-@lru_cache(maxsize=16)
-def _height_grid(
-    d: Debris, body_length: float
-) -> tuple[float, float, float, np.ndarray]:
-    """(x0, y0, cell, grid (nx, ny)): box tops rasterised at cell centres."""
-    boxes = d.boxes(body_length)
-    cell = HEIGHT_CELL_BL * body_length
-    reach = d.size_max * body_length / math.sqrt(2)  # a box's half diagonal
-    x0 = -d.behind * body_length - reach
-    y0 = -d.width / 2 * body_length - reach
-    nx = math.ceil(((d.behind + d.length) * body_length + 2 * reach) / cell)
-    ny = math.ceil((d.width * body_length + 2 * reach) / cell)
-    grid = np.zeros((nx, ny))
-    for x, y, yaw, sx, sy, h in boxes:
-        i0, i1 = (max(0, math.floor((c - x0) / cell)) for c in (x - reach, x + reach))
-        j0, j1 = (max(0, math.floor((c - y0) / cell)) for c in (y - reach, y + reach))
-        cx = x0 + (np.arange(i0, min(nx, i1 + 2)) + 0.5) * cell
-        cy = y0 + (np.arange(j0, min(ny, j1 + 2)) + 0.5) * cell
-        dx, dy = cx[:, None] - x, cy[None, :] - y
-        u = dx * math.cos(yaw) + dy * math.sin(yaw)
-        v = -dx * math.sin(yaw) + dy * math.cos(yaw)
-        inside = (np.abs(u) <= sx / 2) & (np.abs(v) <= sy / 2)
-        view = grid[i0 : i0 + len(cx), j0 : j0 + len(cy)]
-        np.maximum(view, np.where(inside, h, 0.0), out=view)
-    grid.flags.writeable = False
-    return x0, y0, cell, grid
 
 
 _REGISTRY: dict[str, type[Scene]] = {}
