@@ -28,7 +28,11 @@ progress: ``successive_fitness`` in ``tasks/composed.py``). Rows:
   held-out mean as one sample;
 * with ``--flat-study``, the same group table on the flat floor beside it:
   the composed and monolithic networks of those flat reproductions, each
-  scored on the flat floor (Eq. 4, no terrain) at the same physics.
+  scored on the flat floor (Eq. 4, no terrain) at the same physics;
+* with ``--figure FILE``, the groups' learning curves (training fitness,
+  median and interquartile band over runs) against the genome evaluations
+  each spent in all: a composed run's curve starts after its frozen simple
+  runs' evaluations (``locustjump compare --total-budget``).
 
 Usage::
 
@@ -36,7 +40,7 @@ Usage::
         results/study/long/seed-{1,2} --runs runs/debris/*/composed \\
         runs/debris/*/monolithic runs/debris/flat-simples-composed-s* \\
         [--flat-study results/long-seed0 results/study/long/seed-*] \\
-        [--substeps 12] [--json FILE]
+        [--substeps 12] [--json FILE] [--figure FILE]
 
 The held-out mean of a run is the mean of its fitness over the terrains
 (as ``locustjump evaluate RUN --terrain-seeds`` computes, which it equals at
@@ -58,6 +62,7 @@ import numpy as np
 from scipy.stats import mannwhitneyu
 
 from locustjump import rundir
+from locustjump.present.compare import TOTAL_LABEL, convergence_figure, load_groups
 from locustjump.runs.multiseed import parse_seeds
 from locustjump.sim import model as lm
 from locustjump.sim.analysis import find_jumps, stuck_overturned
@@ -239,6 +244,20 @@ def group_of(run: Path) -> str:
     return "composed, debris simples" + ("" if k == 2 else f", {k} terrains")
 
 
+def learning_curves(runs: list[Path], path: Path) -> None:
+    """The groups' training curves against the evaluations spent in all."""
+    by_group: dict[str, list[Path]] = {}
+    for r in runs:
+        by_group.setdefault(group_of(r), []).append(r)
+    groups = [
+        dataclasses.replace(load_groups(rs, "behaviour", total_budget=True)[0], label=g)
+        for g, rs in sorted(by_group.items())
+    ]
+    title = "debris: best training fitness, median and interquartile range over seeds"
+    convergence_figure(groups, path, title=title, xlabel=TOTAL_LABEL)
+    print(f"\nwrote {path}")
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--flat", nargs="*", type=Path, default=[],
@@ -259,6 +278,7 @@ def main(argv: list[str] | None = None) -> int:
                     help="physics substeps per control step (training: 3; "
                     "12: converged physics)")  # fmt: skip
     ap.add_argument("--json", type=Path)
+    ap.add_argument("--figure", type=Path, help="learning curves of the --runs")
     args = ap.parse_args(argv)
     seeds = parse_seeds(args.terrain_seeds)
     runs = [r for r in args.runs if rundir.is_run(r) and (r / rundir.BEST).is_file()]
@@ -314,6 +334,8 @@ def main(argv: list[str] | None = None) -> int:
         out["flat_floor"] = flat
         out["flat_floor_late_gain"] = flat_late
         out["flat_floor_tests"] = group_table("E on the flat floor", flat, flat_late)
+    if args.figure:
+        learning_curves(runs, args.figure)
     if args.json:
         args.json.parent.mkdir(parents=True, exist_ok=True)
         args.json.write_text(json.dumps(out, indent=1))

@@ -1,5 +1,6 @@
 """``locustjump compare``: runs grouped by a config key, as samples."""
 
+import shutil
 from pathlib import Path
 
 import numpy as np
@@ -73,3 +74,42 @@ def test_optimizer_labels_name_the_settings_that_differ():
     assert optimizer_label(rcga(population=10)) == "rcga"
     assert optimizer_label(rcga(crossover="sbx")) == "rcga(crossover=sbx)"
     assert optimizer_label(params_class("cma")(sigma0=1.0)) == "cma(sigma0=1.0)"
+
+
+ROOT = Path(__file__).resolve().parent.parent
+DEBRIS = ROOT / "results" / "debris" / "long-seed0"
+
+
+def _evaluations(run: Path) -> int:
+    return int(rundir.read_metrics(run / rundir.METRICS)["evaluations"].sum())
+
+
+def test_total_budget_counts_the_frozen_runs(tmp_path, monkeypatch, capsys):
+    # the shipped debris reproduction: the composed switcher over its kick,
+    # getup and return-legs, against the monolithic network at their budget
+    monkeypatch.chdir(tmp_path)  # its frozen.npz's sources are not here
+    simples = sum(_evaluations(DEBRIS / s) for s in ("kick", "getup", "return-legs"))
+    own = _evaluations(DEBRIS / "composed")
+    dirs = [DEBRIS / "composed", DEBRIS / "monolithic"]
+    alone, total = (
+        load_groups(dirs, "behaviour", total_budget=t) for t in (False, True)
+    )
+    assert alone[0].evaluations[0] == own
+    assert total[0].evaluations[0] == own + simples  # found beside it
+    assert total[0].curves[0][0][0] == simples + alone[0].curves[0][0][0]
+    # the monolithic run builds on nothing; the two budgets agree to a generation
+    assert total[1].evaluations[0] == alone[1].evaluations[0] == _evaluations(dirs[1])
+    assert abs(int(total[0].evaluations[0]) - int(total[1].evaluations[0])) < 50
+    np.testing.assert_array_equal(total[0].best, alone[0].best)
+    # a run whose frozen runs are nowhere: one line naming the first, exit 2
+    lone = tmp_path / "lone" / "composed"
+    shutil.copytree(DEBRIS / "composed", lone)
+    fig = tmp_path / "curves.png"
+    argv = ["compare", str(lone), "--total-budget", "--figure", str(fig)]
+    assert exit_status(argv) == 2 and not fig.exists()
+    err = capsys.readouterr().err
+    assert "needs the kick run it builds on" in err and err.count("\n") == 1
+    assert exit_status(argv[:3]) == 2  # without a figure, too
+    shutil.copytree(DEBRIS / "kick", lone.parent / "kick")
+    err = (exit_status(argv), capsys.readouterr().err)
+    assert err[0] == 2 and "getup run" in err[1] and not fig.exists()

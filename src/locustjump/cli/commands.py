@@ -9,7 +9,12 @@ import sys
 from locustjump import rundir
 from locustjump.cli.resolve import resolve_config, scene_override, terrains_arg
 from locustjump.errors import UserError
-from locustjump.present.compare import convergence_figure, load_groups, table
+from locustjump.present.compare import (
+    TOTAL_LABEL,
+    convergence_figure,
+    load_groups,
+    table,
+)
 from locustjump.present.evaluate import (
     TerrainEvaluation,
     evaluate_run,
@@ -293,13 +298,14 @@ def cmd_compare(args: argparse.Namespace) -> int:
 
     if args.figure is not None:
         rundir.prepare_out_file(args.figure, force=args.force, option="--figure")
-    groups = load_groups(args.dirs, by=args.by)
+    groups = load_groups(args.dirs, by=args.by, total_budget=args.total_budget)
     text = table(groups, args.reference)
     if args.figure is not None:
         with rundir.output_file(
             args.figure, force=args.force, option="--figure"
         ) as figure:
-            convergence_figure(groups, figure, title=args.title)
+            xlabel = TOTAL_LABEL if args.total_budget else "genome evaluations"
+            convergence_figure(groups, figure, title=args.title, xlabel=xlabel)
     print(text)
     if args.figure is not None:
         print(f"wrote {args.figure}")

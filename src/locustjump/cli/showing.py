@@ -126,6 +126,12 @@ def add_showing_commands(sub: argparse._SubParsersAction) -> None:
                    "to FILE (default: no figure)")  # fmt: skip
     p.add_argument("--title", default="", help="the figure's title (default: what "
                    "its lines and bands are)")  # fmt: skip
+    p.add_argument("--total-budget", action="store_true",
+                   help="count the evaluations of the frozen runs a run builds on "
+                   "(a composed run's simple behaviours: found where its "
+                   "frozen.npz says, or beside it), so that composed and "
+                   "monolithic runs compare at the budget each spent in "
+                   "all")  # fmt: skip
     p.add_argument("--force", action="store_true",
                    help="overwrite FILE (default: refuse)")  # fmt: skip
     p.set_defaults(func=cmd.cmd_compare)

@@ -7,7 +7,9 @@ test of every group against the reference group (SciPy, extra
 ``locustjump[study]``), and draws convergence curves: the best fitness so far
 against genome evaluations, median and interquartile band over the group's
 runs. ``locustjump compare DIR... [--by KEY] [--figure FILE]`` prints the
-table.
+table. With ``total_budget`` (``--total-budget``) a run built on frozen
+networks (the composed switcher) counts their evaluations too, so that a
+composition and a monolithic network compare at the budget each spent in all.
 """
 
 from __future__ import annotations
@@ -26,6 +28,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 from locustjump import rundir
 from locustjump.errors import UserError
+
+#: the x axis when a composed run's frozen runs are counted (total_budget)
+TOTAL_LABEL = "genome evaluations, the frozen simple runs' included"
 
 #: config keys a comparison may group by
 KEYS = ("optimizer", "engine", "behaviour", "seed")
@@ -67,14 +72,45 @@ def _key(cfg, by: str) -> str:
     return str(getattr(cfg, by))
 
 
+def frozen_evaluations(run: Path, cfg) -> int:
+    """Genome evaluations of the runs whose best genomes ``run`` builds on
+    (0 for a behaviour built on none). Each is found where ``frozen.npz``
+    says it came from (relative to the working directory) or beside ``run``
+    (``DIR/<behaviour>`` of one reproduction), and must have the config hash
+    recorded there; ``UserError`` naming it when neither holds it."""
+    frozen = rundir.frozen_of(cfg, run)
+    if frozen is None:
+        return 0
+    total = 0
+    recorded = zip(frozen.behaviours, frozen.sources, frozen.hashes, strict=True)
+    for name, source, digest in recorded:
+        places = (Path(source), run.parent / name)
+        found = [d for d in places if rundir.is_run(d) and _hash(d) == digest]
+        if not found:
+            raise UserError(
+                f"{run}: --total-budget needs the {name} run it builds on (config "
+                f"hash {digest}), neither at {source} nor at {run.parent / name}"
+            )
+        metrics = rundir.read_metrics(found[0] / rundir.METRICS)
+        total += int(metrics["evaluations"].sum())
+    return total
+
+
+def _hash(run: Path) -> str:
+    return rundir.load_config(run / rundir.CONFIG).hash()
+
+
 def load_groups(
-    dirs: Sequence[str | os.PathLike], by: str = "optimizer"
-) -> list[Group]:
+    dirs: Sequence[str | os.PathLike], by: str = "optimizer",
+    total_budget: bool = False,
+) -> list[Group]:  # fmt: skip
     """The runs in ``dirs`` grouped by ``by`` (one of :data:`KEYS`, or several
     joined by commas: ``behaviour,optimizer``), in the order each value first
     appears. Every run must be of one behaviour, unless
     grouped by behaviour (then theirs must be one fitness: composed and
-    monolithic, kick and kick-open, ...)."""
+    monolithic, kick and kick-open, ...). With ``total_budget`` a run's
+    evaluations include those of the frozen runs it builds on
+    (:func:`frozen_evaluations`): its curve starts where they end."""
     keys = by.split(",")
     if not all(k in KEYS for k in keys) or len(set(keys)) != len(keys):
         raise UserError(
@@ -93,6 +129,8 @@ def load_groups(
         if not len(m):
             raise UserError(f"{d / rundir.METRICS}: holds no generation yet")
         evals = np.cumsum(m["evaluations"])
+        if total_budget:
+            evals += frozen_evaluations(d, cfg)
         found.setdefault(_key(cfg, by), []).append(
             (d, best.fitness, int(evals[-1]), (evals, np.maximum.accumulate(m["best"])))
         )
@@ -157,7 +195,8 @@ def table(groups: Sequence[Group], reference: str | None = None) -> str:
 
 
 def convergence_figure(groups: Sequence[Group], path: str | os.PathLike,
-                       title: str = "") -> Path:  # fmt: skip
+                       title: str = "", xlabel: str = "genome evaluations",
+                       ) -> Path:  # fmt: skip
     """Best fitness so far against genome evaluations: median line and
     interquartile band over each group's runs."""
     fig, ax = plt.subplots(figsize=(7, 4.2))
@@ -170,7 +209,7 @@ def convergence_figure(groups: Sequence[Group], path: str | os.PathLike,
         q1, med, q3 = np.nanpercentile(ys, [25, 50, 75], axis=0)
         (line,) = ax.plot(grid, med, label=f"{g.label} (n={len(g.runs)})")
         ax.fill_between(grid, q1, q3, color=line.get_color(), alpha=0.2)
-    ax.set_xlabel("genome evaluations")
+    ax.set_xlabel(xlabel)
     ax.set_ylabel("best fitness so far")
     ax.set_title(title or "best fitness: median and interquartile range over runs")
     ax.legend()

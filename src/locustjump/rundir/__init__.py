@@ -76,6 +76,7 @@ from locustjump.rundir.run import (
     BestGenome,
     FrozenGenomes,
     behaviour_of,
+    frozen_of,
     load_config,
     load_run,
     write_config,

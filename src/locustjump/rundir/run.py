@@ -207,13 +207,13 @@ class FrozenGenomes:
         )
 
 
-def behaviour_of(cfg, out: Path):
-    """The behaviour of the run in ``out``; one built on frozen runs reads
-    their genomes (``frozen.npz``) and checks them against the config."""
+def frozen_of(cfg, out: Path) -> FrozenGenomes | None:
+    """The frozen genomes the run in ``out`` builds on (``frozen.npz``),
+    checked against its config; None for a behaviour built on none."""
 
     cls = behaviour_class(cfg.behaviour)
     if not cls.requires:
-        return get_behaviour(cfg.behaviour, None, cfg.options, cfg.scene)
+        return None
     path = frozen_path(out)
     frozen = FrozenGenomes.load(path, cls.requires, cls.frozen_num_params())
     if frozen.digest != cfg.frozen_digest:
@@ -221,7 +221,16 @@ def behaviour_of(cfg, out: Path):
             f"{path}: its genomes (digest {frozen.digest}) are not the ones "
             f"{out / CONFIG} names ({cfg.frozen_digest or 'none'})"
         )
-    return get_behaviour(cfg.behaviour, frozen.genomes, cfg.options, cfg.scene)
+    return frozen
+
+
+def behaviour_of(cfg, out: Path):
+    """The behaviour of the run in ``out``; one built on frozen runs reads
+    their genomes (:func:`frozen_of`)."""
+
+    frozen = frozen_of(cfg, out)
+    genomes = None if frozen is None else frozen.genomes
+    return get_behaviour(cfg.behaviour, genomes, cfg.options, cfg.scene)
 
 
 def load_run(path: str | os.PathLike):
