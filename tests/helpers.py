@@ -1,7 +1,10 @@
 """Helpers shared by the tests (importable: tests/ is on sys.path)."""
 
+import contextlib
+import io
 import time
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 
@@ -48,3 +51,18 @@ def wait_for_rows(out: Path, rows: int, timeout: float = 60.0) -> None:
         if m.exists() and len(m.read_text().splitlines()) > rows:
             return
         time.sleep(0.02)
+
+
+def run_cli(*argv: str) -> SimpleNamespace:
+    """``locustjump ARGV`` in this process: its exit status and output."""
+    from locustjump.cli import main
+
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        try:
+            code = main(list(argv))
+        except SystemExit as e:
+            code = e.code
+    return SimpleNamespace(
+        returncode=code, stdout=out.getvalue(), stderr=err.getvalue()
+    )
