@@ -13,6 +13,7 @@ from mujoco import rollout as mj_rollout
 
 from locustjump.sim import model as lm
 from locustjump.sim.engine.rollout import StartStates
+from locustjump.sim.scene import Flat, Scene
 
 
 def physics_only_seconds(
@@ -21,11 +22,12 @@ def physics_only_seconds(
     ctrl: np.ndarray,
     threads: int,
     repeats: int,
+    scene: Scene = Flat(),
 ) -> float:
     """Median seconds to simulate ``len(starts)`` episodes with the recorded
     servo targets ``ctrl (n, T + 1, nu)`` (row 0, the start, is skipped) held
-    for each physics substep."""
-    m = lm.load_model(p)
+    for each physics substep, in ``scene``."""
+    m = lm.load_model(p, scene)
     d = mujoco.MjData(m)
     spec = mujoco.mjtState.mjSTATE_FULLPHYSICS
     state0 = np.empty((len(starts), mujoco.mj_stateSize(m, spec)))

@@ -113,9 +113,9 @@ def measure(
     terrains: Terrains | None = None,
 ) -> GenerationTimes:
     """Train ``warmup + generations`` generations, then time physics-only
-    replays of the measured generations' episodes. With ``terrains`` (not
-    the flat floor) the run trains on them and no physics-only replay is
-    timed (its ratio is NaN)."""
+    replays of the measured generations' episodes. With ``terrains`` the run
+    trains on them, and the replay is of every terrain's episodes, each in
+    its own scene (their times summed)."""
     cfg = TrainConfig(
         behaviour=behaviour,
         generations=warmup + generations,
@@ -123,14 +123,13 @@ def measure(
     )
     if terrains is not None:
         cfg = cfg.replace(scene=terrains)
-    replay = cfg.scene == Terrains()
     if engine is not None:
         cfg = cfg.replace(engine=engine)
     simple = simple if get_behaviour(behaviour, None).requires else None
-    beh = get_behaviour(behaviour, None if simple is None else simple.genomes)
+    beh = get_behaviour(behaviour, None if simple is None else simple.genomes,
+                        terrains=cfg.scene)  # fmt: skip
     p = cfg.model
     backend = ThreadBackend(threads)
-    starts = beh.start_states(p)
     kw = {"frozen": simple} if beh.requires else {}
     wall, steps, phys = [], [], []
     n_new = population  # genomes asked for a generation (known on a replay)
@@ -152,21 +151,30 @@ def measure(
             row = rundir.read_metrics(out / rundir.METRICS)
             wall.append(float(row["wall_s"][-1]))
             steps.append(int(row["control_steps"][-1]))
-            if not replay:
-                continue
             genomes = ga.ask()
             n_new = len(genomes)
-            rec = (*beh.record, "ctrl")
-            res = beh.simulate(genomes, p, record=rec, backend=backend,
-                               engine=cfg.engine)  # fmt: skip
-            ga.tell(beh.fitness(res, p))
-            ep_starts = starts.take(np.tile(np.arange(len(starts)), len(genomes)))
-            phys.append(
-                physics_only_seconds(p, ep_starts, res["ctrl"], threads, repeats)
-            )
+            fit, res = beh.evaluate(genomes, p, record=(*beh.record, "ctrl"),
+                                    backend=backend, engine=cfg.engine)  # fmt: skip
+            ga.tell(fit)
+            phys.append(replay_seconds(beh, p, res["ctrl"], n_new, threads, repeats))
     return GenerationTimes(
-        behaviour, wall, phys, steps, n_new, len(starts), beh.n_steps
+        behaviour, wall, phys, steps, n_new, len(beh.start_states(p)), beh.n_steps
     )
+
+
+def replay_seconds(beh, p, ctrl: np.ndarray, n: int, threads: int, repeats: int):
+    """Physics-only seconds of ``n`` genomes' episodes (servo targets
+    ``ctrl``, terrain-major as ``evaluate`` concatenates them) on each of the
+    behaviour's terrains, summed."""
+    total, at = 0.0, 0
+    for scene in beh.terrains.scenes:
+        starts = beh.on(scene).start_states(p)
+        k = n * len(starts)
+        ep_starts = starts.take(np.tile(np.arange(len(starts)), n))
+        total += physics_only_seconds(p, ep_starts, ctrl[at : at + k], threads,
+                                      repeats, scene)  # fmt: skip
+        at += k
+    return total
 
 
 def main() -> None:

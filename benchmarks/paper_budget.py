@@ -18,8 +18,8 @@ control steps/s and the ratio engine / physics-only. The last line reads
 
 ``--scene debris --terrains K``: the stages train on K debris terrains (as
 ``scripts/debris_study.sh``: K = 2), so a generation simulates K times the
-episodes among the boxes; no physics-only replay there (engine/physics:
-nan).
+episodes among the boxes; the physics-only replay is of every terrain's
+episodes, each in its own scene.
 """
 
 from __future__ import annotations
