@@ -66,9 +66,11 @@ def test_debris_table_scores_shipped_runs_on_held_out_terrains(tmp_path, capsys)
     runs = [RESULTS / "debris-open" / f"quick-seed{s}" / "monolithic" for s in (0, 1)]
     out = tmp_path / "t.json"
     flat_run = str(RESULTS / "long-seed0")
-    argv = ["--terrain-seeds", "100", "--runs", *map(str, runs),
-            "--flat-study", flat_run, "--json", str(out)]  # fmt: skip
+    fig = tmp_path / "curves.png"
+    argv = ["--terrain-seeds", "100", "--runs", *map(str, runs), "--flat-study",
+            flat_run, "--json", str(out), "--figure", str(fig)]  # fmt: skip
     assert script.main(argv) == 0
+    assert fig.read_bytes().startswith(b"\x89PNG")  # the learning curves
     got = json.loads(out.read_text())
     cfg, beh, best = rundir.load_run(runs[0])
     # held out: terrain 100 of the run's own field (the open one: no walls)
