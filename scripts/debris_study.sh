@@ -24,6 +24,12 @@
 #                              arms) into results/debris/, same names
 #                              (scripts/ship_runs.sh: genomes, metrics,
 #                              configs; tests/test_study.py replays them)
+#   scripts/debris_study.sh table      the study's tables from the shipped runs
+#                              (scripts/debris_table.py on terrains 100-119,
+#                              as trained and at 12 substeps, the flat floor
+#                              beside them), into results/debris/<budget>-
+#                              study{,-sub12}.{md,json}, and its learning
+#                              curves, docs/figures/debris_learning.png
 #   scripts/debris_study.sh status     generations done of every run
 set -e
 cd "$(dirname "$0")/.."
@@ -64,10 +70,25 @@ case $1 in
         "runs/debris/${PREFIX}flat-simples-composed-s$s"
     done
     echo "results/debris: $(ls results/debris/*/config.toml results/debris/*/*/config.toml | wc -l) runs" ;;
+  table)
+    runs="results/debris/$BUDGET-seed*/composed results/debris/$BUDGET-seed*/monolithic"
+    runs="$runs results/debris/${PREFIX}flat-simples-composed-s*"
+    flat="results/long-seed0 results/study/long/seed-1 results/study/long/seed-2"
+    flat="$flat results/study/long/seed-3 results/study/long/seed-4"
+    for sub in 3 12; do
+      out=results/debris/$BUDGET-study$([ $sub = 3 ] || echo "-sub$sub")
+      fig=$([ $sub = 3 ] && echo "--figure docs/figures/debris_learning.png")
+      # shellcheck disable=SC2086  # the globs and options are meant to split
+      .venv/bin/python scripts/debris_table.py --terrain-seeds 100-119 --runs $runs \
+        --flat-study $flat --substeps $sub --json "$out.json" $fig > "$out.md.tmp" \
+        || { rm -f "$out.md.tmp"; exit 1; }
+      mv "$out.md.tmp" "$out.md"
+      echo "wrote $out.md, $out.json"
+    done ;;
   status)
     for d in runs/debris/*/ runs/debris/*/*/; do
       [ -f "$d/config.toml" ] || continue
       echo "$d $(($(wc -l < "$d/metrics.csv") - 1)) generations"
     done ;;
-  *) sed -n '2,27p' "$0"; exit 2 ;;
+  *) sed -n '2,33p' "$0"; exit 2 ;;
 esac

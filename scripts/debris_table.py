@@ -255,7 +255,7 @@ def learning_curves(runs: list[Path], path: Path) -> None:
     ]
     title = "debris: best training fitness, median and interquartile range over seeds"
     convergence_figure(groups, path, title=title, xlabel=TOTAL_LABEL)
-    print(f"\nwrote {path}")
+    print(f"wrote {path}", file=sys.stderr)
 
 
 def main(argv: list[str] | None = None) -> int:
