@@ -76,8 +76,8 @@ case $1 in
     flat="results/long-seed0 results/study/long/seed-1 results/study/long/seed-2"
     flat="$flat results/study/long/seed-3 results/study/long/seed-4"
     for sub in 3 12; do
-      out=results/debris/$BUDGET-study$([ $sub = 3 ] || echo "-sub$sub")
-      fig=$([ $sub = 3 ] && echo "--figure docs/figures/debris_learning.png")
+      out=results/debris/$BUDGET-study fig="--figure docs/figures/debris_learning.png"
+      if [ $sub != 3 ]; then out=$out-sub$sub fig=""; fi
       # shellcheck disable=SC2086  # the globs and options are meant to split
       .venv/bin/python scripts/debris_table.py --terrain-seeds 100-119 --runs $runs \
         --flat-study $flat --substeps $sub --json "$out.json" $fig > "$out.md.tmp" \
