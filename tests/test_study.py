@@ -93,3 +93,18 @@ def test_debris_table_scores_shipped_runs_on_held_out_terrains(tmp_path, capsys)
     text = capsys.readouterr().out
     assert "| monolithic (debris) | 2 |" in text
     assert "The flat floor beside it" in text
+
+
+def test_science_md_debris_table_is_the_shipped_study():
+    """docs/science.md's held-out table per arm (as trained, 12 substeps) is
+    `scripts/debris_study.sh table`'s output, results/debris/long-study*.json,
+    rounded: the doc cannot drift from the runs it cites."""
+    import json
+
+    doc = (RESULTS.parent / "docs" / "science.md").read_text()
+    study = {sub: json.loads((RESULTS / "debris" / f"long-study{sub}.json").read_text())
+             for sub in ("", "-sub12")}  # fmt: skip
+    for group, trained in study[""]["held_out"].items():
+        fine = study["-sub12"]["held_out"][group]
+        cells = [", ".join(f"{v:.0f}" for v in vs) for vs in (trained, fine)]
+        assert f"| {group} | {cells[0]} | {cells[1]} |" in doc, group
