@@ -1,0 +1,242 @@
+"""``present.stats``: the Hodges–Lehmann interval, TOST, power, verdicts."""
+
+import itertools
+import json
+import math
+
+import numpy as np
+import pytest
+
+from locustjump.present.stats import (
+    Comparison,
+    Sample,
+    compare_samples,
+    hodges_lehmann,
+    pairs_table,
+    seeds_for_power,
+    tost,
+    u_null_distribution,
+    verdict,
+)
+
+scipy_stats = pytest.importorskip("scipy.stats")
+
+# Hollander & Wolfe (1973, p. 69): permeability of the human chorioamnion at
+# term (x) and at 12-26 weeks (y), the example of R's ?wilcox.test
+HW_X = [0.80, 0.83, 1.89, 1.04, 1.45, 1.38, 1.91, 1.64, 0.73, 1.46]
+HW_Y = [1.15, 0.88, 0.90, 0.74, 1.21]
+
+
+def _brute_u(m: int, n: int) -> np.ndarray:
+    """P(U = u) by listing every placement of a's m values among m + n ranks."""
+    counts = np.zeros(m * n + 1)
+    for ranks in itertools.combinations(range(m + n), m):
+        # an a at pooled rank r (0-based) with i a's below it beats r - i b's
+        counts[sum(r - i for i, r in enumerate(ranks))] += 1
+    return counts / counts.sum()
+
+
+@pytest.mark.parametrize("m,n", [(1, 1), (2, 3), (4, 4), (5, 3), (6, 7), (10, 5)])
+def test_u_null_distribution_is_the_counted_one(m, n):
+    np.testing.assert_allclose(u_null_distribution(m, n), _brute_u(m, n), rtol=1e-12)
+
+
+@pytest.mark.parametrize("m,n", [(2, 2), (3, 5), (6, 6), (7, 4), (9, 12), (20, 15)])
+def test_u_null_distribution_gives_scipys_exact_p_values(m, n):
+    rng = np.random.default_rng(m * 100 + n)
+    cdf = np.cumsum(u_null_distribution(m, n))
+    for _ in range(5):
+        a, b = rng.normal(size=m), rng.normal(0.5, size=n)  # no ties
+        u = int(scipy_stats.mannwhitneyu(a, b, method="exact").statistic)
+        above = 1 - cdf[u - 1] if u else 1.0
+        for alternative, ours in (("less", cdf[u]), ("greater", above)):
+            theirs = scipy_stats.mannwhitneyu(
+                a, b, alternative=alternative, method="exact"
+            ).pvalue
+            assert ours == pytest.approx(theirs, rel=1e-9, abs=1e-15)
+
+
+def test_hodges_lehmann_by_hand():
+    # a - b = 10 i - j for a = 10 i, b = j (i, j = 1..6): 36 distinct
+    # differences in blocks of six, D(1..6) = 4..9, D(7..12) = 14..19, ...,
+    # D(31..36) = 54..59. Median: (D(18) + D(19)) / 2 = (29 + 34) / 2 = 31.5.
+    # U's null distribution for 6 vs 6 (C(12, 6) = 924 placements): P(U = u)
+    # = partitions of u into at most 6 parts of at most 6, for u = 0..6:
+    # 1, 1, 2, 3, 5, 7, 11, so P(U <= 5) = 19/924 = 0.0206 < 0.025 <=
+    # P(U <= 6) = 30/924 = 0.0325: k = 6, the interval is [D(6), D(31)] =
+    # [9, 54], its coverage 1 - 2 * 19/924 = 0.959.
+    a, b = [10, 20, 30, 40, 50, 60], [1, 2, 3, 4, 5, 6]
+    assert hodges_lehmann(a, b) == (31.5, 9.0, 54.0)
+    assert hodges_lehmann(b, a) == (-31.5, -54.0, -9.0)
+    # 4 vs 5 (126 placements): P(U <= u) = 1, 2, 4 /126 for u = 0, 1, 2
+    # (partitions of u into at most 4 parts of at most 5), so P(U <= 1) =
+    # 0.0159 < 0.025 <= 0.0317: k = 2, [D(2), D(19)] of the 20 differences
+    # 10 i - j (i = 1..4, j = 1..5), blocks 5..9, 15..19, 25..29, 35..39:
+    # D(2) = 6, D(19) = 38; median (D(10) + D(11)) / 2 = (19 + 25) / 2 = 22
+    assert hodges_lehmann([10, 20, 30, 40], [1, 2, 3, 4, 5]) == (22.0, 6.0, 38.0)
+
+
+def test_hodges_lehmann_on_hollander_and_wolfe():
+    # SAS NPAR1WAY prints for these data the shift 0.305 (term - early) and
+    # the exact two-sided Mann-Whitney p 0.2544; its (asymptotic) 95 % limits
+    # are [-0.17, 0.76]. The exact interval: U of 10 vs 5 (C(15, 5) = 3003
+    # placements) counts partitions of u into at most 5 parts: 1, 1, 2, 3, 5,
+    # 7, 10, 13, 18, 23 for u = 0..9, so P(U <= 8) = 60/3003 = 0.0200 < 0.025
+    # <= P(U <= 9) = 83/3003 = 0.0276: k = 9, [D(9), D(42)] of the 50 sorted
+    # differences (-0.48, -0.42, -0.41, -0.38, -0.35, -0.32, -0.17, -0.17,
+    # -0.15, ..., 0.74, 0.76, 0.76, 0.90, 0.99, 1.01, 1.01, 1.03, 1.15, 1.17)
+    # = [-0.15, 0.76], coverage 1 - 2 * 60/3003 = 0.96. R's
+    # wilcox.test(x, y, conf.int = TRUE) takes the same k = qwilcox(0.025,
+    # 10, 5), the smallest u with P(U <= u) >= 0.025 (not run here: no R).
+    cdf = np.cumsum(u_null_distribution(10, 5))
+    assert np.round(cdf[:10] * 3003).tolist() == [1, 2, 4, 7, 12, 19, 29, 42, 60, 83]
+    assert cdf[8] < 0.025 <= cdf[9]
+    shift, low, high = hodges_lehmann(HW_X, HW_Y)
+    assert (shift, low, high) == pytest.approx((0.305, -0.15, 0.76))
+    c = compare_samples(HW_X, HW_Y)
+    assert (c.u, c.p) == pytest.approx((35, 0.2544), abs=1e-4)
+
+
+def test_the_interval_is_the_shifts_the_exact_test_keeps():
+    # Bauer (1972): the interval holds exactly the shifts d for which the
+    # exact two-sided test of a - d against b does not reject at 5 %
+    shift, low, high = hodges_lehmann(HW_X, HW_Y)
+    d = np.unique(np.subtract.outer(HW_X, HW_Y))
+    mids = (d[1:] + d[:-1]) / 2  # between differences: no ties
+    for t in mids:
+        p = scipy_stats.mannwhitneyu(np.array(HW_X) - t, HW_Y, method="exact").pvalue
+        assert (p >= 0.05) == (low < t < high), t
+
+
+@pytest.mark.parametrize("d", [-3.0, 0.0, 0.7, 25.0])
+def test_a_pure_shift_lies_in_its_interval(d):
+    rng = np.random.default_rng(7)
+    for m, n in ((5, 5), (8, 12), (60, 55)):  # exact, exact, normal approximation
+        b = rng.gamma(2.0, size=n)
+        a = rng.choice(b, size=m) + d + rng.normal(0, 1e-9, size=m)
+        shift, low, high = hodges_lehmann(a, b)
+        assert low <= d <= high and low <= shift <= high
+        # a sample against itself shifted: the estimate is the shift itself
+        assert hodges_lehmann(b + d, b)[0] == pytest.approx(d)
+
+
+def test_no_interval_where_too_few_values():
+    # 3 vs 3: P(U = 0) = 1/20 > 0.025, even [D(1), D(9)] covers only 90 %
+    assert hodges_lehmann([1, 2, 3], [4, 5, 6]) == (-3.0, -math.inf, math.inf)
+    # at 80 %: P(U = 0) = 0.05 < 0.1 <= P(U <= 1) = 0.1 (equal: k = 1, as
+    # R's qwilcox), so [D(1), D(9)] = [1 - 6, 3 - 4]
+    assert hodges_lehmann([1, 2, 3], [4, 5, 6], confidence=0.8) == (-3.0, -5.0, -1.0)
+    c = compare_samples([1, 2], [5, 6])
+    assert c.verdict == (
+        "no evidence either way: too few runs for a 95 % interval (2 and 2)"
+    )
+    assert c.row()["low"] is None and c.row()["high"] is None
+
+
+def test_tost():
+    rng = np.random.default_rng(3)
+    a = rng.normal(10, 1, size=40)
+    assert tost(a, a.copy(), 1.0) < 1e-4  # identical: equivalent within 1 sd
+    assert tost(a, a + 5, 1.0) > 0.5  # 5 apart: not within 1
+    # a 1.5 shift is outside +-1 on one side only: that side decides
+    p = tost(a + 1.5, a, 1.0)
+    assert p == scipy_stats.mannwhitneyu(a + 0.5, a, alternative="less").pvalue
+    assert p > 0.9
+
+
+def test_seeds_for_power_by_hand():
+    # z(0.975) + z(0.8) = 1.959964 + 0.841621 = 2.801585, squared 7.848879;
+    # spread 1, delta 1: 2 * 7.848879 / (3/pi = 0.954930) = 16.439 -> 17
+    assert seeds_for_power(1.0, 1.0) == 17
+    assert seeds_for_power(2.0, 1.0) == 66  # 4 * 16.439 = 65.76
+    assert seeds_for_power(1.0, 2.0) == 5  # 16.439 / 4 = 4.11
+    assert seeds_for_power(0.01, 1.0) == 2  # never below two
+    assert seeds_for_power(0.0, 1.0) is None
+    # alpha 0.01, power 0.9: (2.575829 + 1.281552)^2 = 14.879 -> 31.16 -> 32
+    assert seeds_for_power(1.0, 1.0, alpha=0.01, power=0.9) == 32
+    with pytest.raises(ValueError, match="delta"):
+        seeds_for_power(1.0, 0.0)
+
+
+def _c(low, high, p_eq=None, margin=None) -> Comparison:
+    c = Comparison("cma", "rcga", 10, 10, (low + high) / 2, low, high, 0.95,
+                   0.5, 50.0, margin, p_eq, None, "")  # fmt: skip
+    return c
+
+
+def test_each_verdict():
+    assert verdict(_c(0.5, 2.0)) == "cma better than rcga"
+    assert verdict(_c(-2.0, -0.5)) == "rcga better than cma"
+    assert verdict(_c(-0.2, 0.3, 0.01, 1.0)) == "equivalent within ±1"
+    # equivalence is not read off the interval but needs the test
+    assert verdict(_c(-0.2, 0.3, 0.2, 1.0)) == (
+        "no evidence either way: interval [-0.2, 0.3]"
+    )
+    assert verdict(_c(-0.2, 0.3)) == "no evidence either way: interval [-0.2, 0.3]"
+    assert verdict(_c(0.0, 3.14159)) == "no evidence either way: interval [0, 3.14]"
+
+
+def test_compare_samples_end_to_end():
+    rng = np.random.default_rng(0)
+    base = rng.normal(100, 5, size=12)
+    better = compare_samples(Sample("new", base + 30), Sample("old", base))
+    assert (better.a, better.b, better.n_a) == ("new", "old", 12)
+    assert better.verdict == "new better than old" and better.p < 1e-4
+    assert better.margin is better.p_equivalence is better.seeds_for_power is None
+    worse = compare_samples(base - 30, base, names=("x", "y"))
+    assert worse.verdict == "y better than x"
+    other = base + rng.normal(0, 0.1, 12)
+    same = compare_samples(base, other, margin=5.0)
+    assert same.verdict == "equivalent within ±5" and same.p_equivalence < 0.05
+    pooled = math.sqrt((np.var(base, ddof=1) + np.var(other, ddof=1)) / 2)
+    assert same.seeds_for_power == seeds_for_power(pooled, 5.0)
+    row = same.row()
+    assert set(row) == {f.name for f in Comparison.__dataclass_fields__.values()}
+    assert json.loads(json.dumps(row, allow_nan=False)) == row
+    text = pairs_table([better, same])
+    lines = text.splitlines()
+    assert lines[0] == (
+        "| pair | n | HL shift [95 % CI] | Mann–Whitney p | TOST p vs ±5 | "
+        "seeds for 80 % power | verdict |"
+    )
+    assert lines[2].startswith("| new - old | 12, 12 | 30 [") and lines[2].endswith(
+        "| - | - | new better than old |"
+    )
+    assert lines[3].endswith(f"| {same.seeds_for_power} | equivalent within ±5 |")
+
+
+def test_pooled_spread_feeds_the_power():
+    a, b = np.array([1.0, 2, 3, 4, 5]), np.array([2.0, 4, 6, 8, 10, 12, 14])
+    # variances 2.5 (4 dof) and 18.667 (6 dof): pooled (10 + 112) / 10 = 12.2;
+    # 2 * 7.848879 * 12.2 / 2^2 / 0.954930 = 50.14 -> 51 seeds per arm
+    c = compare_samples(a, b, margin=2.0)
+    assert c.seeds_for_power == seeds_for_power(math.sqrt(12.2), 2.0) == 51
+
+
+def test_bad_input_names_the_culprit():
+    with pytest.raises(ValueError, match="'lone'.*at least 2"):
+        compare_samples(Sample("lone", [1.0]), Sample("many", [1.0, 2.0]))
+    with pytest.raises(ValueError, match="'B'.*at least 2"):
+        compare_samples([1.0, 2.0], [3.0])
+    with pytest.raises(ValueError, match="'b'"):
+        hodges_lehmann([1.0, 2.0], [])
+    for bad in (0.0, -1.0, math.nan):
+        with pytest.raises(ValueError, match="margin"):
+            compare_samples([1.0, 2.0], [3.0, 4.0], margin=bad)
+        with pytest.raises(ValueError, match="margin"):
+            tost([1.0, 2.0], [3.0, 4.0], bad)
+    with pytest.raises(ValueError, match="'a'.*not finite"):
+        hodges_lehmann([1.0, math.nan], [1.0, 2.0])
+
+
+def test_the_normal_approximation_beyond_exact_max_matches_the_count():
+    # 60 vs 55 is past EXACT_MAX: the interval comes from the normal
+    # approximation; its index k must agree with the exact count's to +-1.
+    # a_i = 1000 i, b_j = j: every difference distinct, their order known
+    a, b = 1000.0 * np.arange(1, 61), np.arange(1.0, 56)
+    d = np.sort(np.subtract.outer(a, b).ravel())
+    _, low, high = hodges_lehmann(a, b)
+    k = int(np.searchsorted(d, low)) + 1
+    assert d[d.size - k] == high  # symmetric order statistics
+    exact = int(np.count_nonzero(np.cumsum(u_null_distribution(60, 55)) < 0.025))
+    assert abs(k - exact) <= 1 and exact > 1000
