@@ -9,7 +9,7 @@ import pytest
 from helpers import exit_status
 from locustjump import rundir
 from locustjump.evo import params_class
-from locustjump.present.compare import load_groups, mann_whitney, table
+from locustjump.present.compare import Group, load_groups, mann_whitney, table
 from locustjump.rundir.config import TrainConfig
 from locustjump.runs.trainer import train
 
@@ -35,8 +35,18 @@ def test_groups_table_and_rank_test(runs, tmp_path, capsys):
     np.testing.assert_array_equal(groups[1].best, best)
     u, p = mann_whitney(groups[1].best, groups[0].best)
     assert 0 <= u <= 9 and 0 < p <= 1
-    text = table(groups, "rcga")
-    assert "Mann–Whitney vs rcga" in text and f"{u:g}, {p:.3g}" in text
+    lines = table(groups, "rcga").splitlines()
+    assert lines[0] == (
+        "| group | runs | evaluations per run | best fitness: median [q1, q3] | "
+        "range | HL shift vs rcga [95 % CI] | Mann–Whitney p | verdict |"
+    )
+    assert lines[2].endswith("| - | - | reference |")
+    # 3 runs against 3: no 95 % interval exists, and the verdict says so
+    shift = float(np.median(np.subtract.outer(groups[1].best, groups[0].best)))
+    assert lines[3].startswith("| random | 3 |") and lines[3].endswith(
+        f"| {shift:.4g} (no interval) | {p:.3g} | no evidence either way: too few "
+        "runs for a 95 % interval (3 and 3) |"
+    )
     fig = tmp_path / "conv.png"
     argv = ["compare", *map(str, dirs), "--reference", "rcga", "--figure", str(fig)]
     assert exit_status(argv) == 0 and fig.stat().st_size > 0
@@ -52,6 +62,54 @@ def test_groups_table_and_rank_test(runs, tmp_path, capsys):
     # --force overwrites, with the title asked for
     assert exit_status([*argv, "--force", "--title", "getup: 3 seeds"]) == 0
     assert fig.read_bytes() != before
+
+
+def _group(label: str, best) -> Group:
+    best = np.asarray(best, dtype=float)
+    runs = tuple(Path(f"{label}-{i}") for i in range(best.size))
+    return Group(label, runs, best, np.full(best.size, 100), ())
+
+
+def test_table_states_the_interval_and_the_verdict():
+    base = np.array([10.0, 11, 12, 13, 14, 15, 16, 17])
+    groups = [_group("rcga", base), _group("cma", base + 20),
+              _group("random", base - 20), _group("sbx", base + 0.1),
+              _group("lone", [12.0])]  # fmt: skip
+    lines = table(groups, margin=5).splitlines()
+    assert lines[0].endswith(
+        "| HL shift vs rcga [95 % CI] | Mann–Whitney p | TOST p vs ±5 | "
+        "seeds for 80 % power | verdict |"
+    )
+    assert lines[1].count("---") == 10
+    assert lines[2].endswith("| - | - | - | - | reference |")
+    # 8 vs 8: k = 14 (P(U <= 13) = 321/12870 = 0.0249 < 0.025 <= P(U <= 14)
+    # = 0.0325), the interval [D(14), D(51)] of the 64 differences 20 + t,
+    # t = i - j (i, j = 0..7), 8 - |t| times each: D(11..15) = 17, D(50..54)
+    # = 23. TOST p 1 (20 is far outside +-5); the seeds per arm from the
+    # pooled sd 2.449: 2 * 7.849 * 6 / 25 / 0.955 = 3.95 -> 4
+    assert lines[3].endswith(
+        "| 20 [17, 23] | 0.000155 | 1 | 4 | cma better than rcga |"
+    )
+    assert "| -20 [-23, -17] |" in lines[4] and lines[4].endswith(
+        "| rcga better than random |"
+    )
+    # identical but for 0.1: within +-5, though 0.1 [-2.9, 3.1] at 95 %
+    assert lines[5].endswith(
+        "| 0.1 [-2.9, 3.1] | 0.721 | 0.00233 | 4 | equivalent within ±5 |"
+    )
+    assert lines[6].endswith("| - | - | - | - | no test: a group of one run |")
+    assert "TOST" not in table(groups)  # without a margin, no such columns
+
+
+def test_margin_on_the_command_line(runs, capsys):
+    dirs = [*map(str, runs["rcga"] + runs["random"])]
+    assert exit_status(["compare", *dirs, "--margin", "2.5"]) == 0
+    out = capsys.readouterr().out
+    assert "| TOST p vs ±2.5 | seeds for 80 % power | verdict |" in out
+    for bad in ("0", "-1", "nan", "inf", "wide"):
+        assert exit_status(["compare", *dirs, "--margin", bad]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and "--margin must be" in err, bad
 
 
 def test_runs_of_several_behaviours_only_by_behaviour(runs, tmp_path):

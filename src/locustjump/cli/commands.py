@@ -299,7 +299,7 @@ def cmd_compare(args: argparse.Namespace) -> int:
     if args.figure is not None:
         rundir.prepare_out_file(args.figure, force=args.force, option="--figure")
     groups = load_groups(args.dirs, by=args.by, total_budget=args.total_budget)
-    text = table(groups, args.reference)
+    text = table(groups, args.reference, margin=args.margin)
     if args.figure is not None:
         with rundir.output_file(
             args.figure, force=args.force, option="--figure"

@@ -110,10 +110,18 @@ def add_showing_commands(sub: argparse._SubParsersAction) -> None:
         help="compare training runs as samples (e.g. optimizers at equal budget)",
         description=(
             "Group run directories by a config key (default the optimizer) and "
-            "print per group the best fitness median, quartiles and range, and a "
-            "two-sided Mann-Whitney U test against the reference group (needs "
-            "SciPy: locustjump[study]); --figure draws the convergence curves "
-            "(median and interquartile band against genome evaluations)."
+            "print a table, a row per group: its runs, evaluations per run, the "
+            "best fitness median [q1, q3] and range; then against the reference "
+            "group (fitness maximised): the Hodges-Lehmann shift (group minus "
+            "reference, the median of the pairwise differences) with its exact "
+            "95 % confidence interval, the two-sided Mann-Whitney p, and a "
+            "verdict that follows the interval ('A better than B' where it "
+            "excludes 0, else 'equivalent within +-M' where the TOST p < 0.05, "
+            "else 'no evidence either way'). --margin M adds the TOST p of "
+            "equivalence within +-M and the seeds per arm for 80 % power to "
+            "detect a shift of M at the observed spread. Needs SciPy "
+            "(locustjump[study]). --figure draws the convergence curves (median "
+            "and interquartile band against genome evaluations)."
         ),
     )
     p.add_argument("dirs", nargs="+", metavar="DIR", help="training run directories")
@@ -122,6 +130,10 @@ def add_showing_commands(sub: argparse._SubParsersAction) -> None:
                    "commas; default optimizer)")  # fmt: skip
     p.add_argument("--reference", help="the group the others are tested against "
                    "(default: the first)")  # fmt: skip
+    p.add_argument("--margin", type=_positive_float("--margin"), metavar="M",
+                   help="equivalence margin in fitness units (> 0): adds the "
+                   "TOST p of equivalence within +-M and the seeds per arm for "
+                   "80 %% power against a shift of M (default: none)")  # fmt: skip
     p.add_argument("--figure", metavar="FILE", help="write the convergence curves "
                    "to FILE (default: no figure)")  # fmt: skip
     p.add_argument("--title", default="", help="the figure's title (default: what "

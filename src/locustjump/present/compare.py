@@ -2,12 +2,15 @@
 
 ``compare(dirs)`` groups training runs by a key of their configuration (the
 optimizer's kind by default), and reports per group the best fitness of each
-run as a sample — median, quartiles, range — with a two-sided Mann–Whitney U
-test of every group against the reference group (SciPy, extra
-``locustjump[study]``), and draws convergence curves: the best fitness so far
-against genome evaluations, median and interquartile band over the group's
-runs. ``locustjump compare DIR... [--by KEY] [--figure FILE]`` prints the
-table. With ``total_budget`` (``--total-budget``) a run built on frozen
+run as a sample — median, quartiles, range — and, against the reference
+group, the Hodges–Lehmann shift with its 95 % interval, the two-sided
+Mann–Whitney p and a verdict that follows the interval; with an equivalence
+margin also the TOST p and the seeds per arm for 80 % power
+(:mod:`locustjump.present.stats`; SciPy, extra ``locustjump[study]``). It
+draws convergence curves: the best fitness so far against genome
+evaluations, median and interquartile band over the group's runs.
+``locustjump compare DIR... [--by KEY] [--margin M] [--figure FILE]`` prints
+the table. With ``total_budget`` (``--total-budget``) a run built on frozen
 networks (the composed switcher) counts their evaluations too, so that a
 composition and a monolithic network compare at the budget each spent in all.
 """
@@ -28,6 +31,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 from locustjump import rundir
 from locustjump.errors import UserError
+from locustjump.present.stats import Sample, compare_samples, interval_text, p_text
 
 #: the x axis when a composed run's frozen runs are counted (total_budget)
 TOTAL_LABEL = "genome evaluations, the frozen simple runs' included"
@@ -163,10 +167,18 @@ def mann_whitney(a: np.ndarray, b: np.ndarray) -> tuple[float, float]:
     return float(r.statistic), float(r.pvalue)
 
 
-def table(groups: Sequence[Group], reference: str | None = None) -> str:
+def table(
+    groups: Sequence[Group], reference: str | None = None, *,
+    margin: float | None = None,
+) -> str:  # fmt: skip
     """A Markdown table: per group the runs, evaluations per run, best
-    fitness median [quartiles] (range), and the rank test against
-    ``reference`` (default: the first group)."""
+    fitness median [quartiles] and range, and against ``reference`` (default:
+    the first group) the Hodges–Lehmann shift ``group - reference`` with its
+    95 % interval, the two-sided Mann–Whitney p and the verdict
+    (:func:`~locustjump.present.stats.compare_samples`; fitness units,
+    maximised). With ``margin`` (> 0, fitness units) also the TOST p of
+    equivalence within ``±margin`` and the seeds per arm for 80 % power
+    against a shift of ``margin``. A group of one run gets no test."""
     ref = (
         next((g for g in groups if g.label == reference), None)
         if reference
@@ -174,24 +186,45 @@ def table(groups: Sequence[Group], reference: str | None = None) -> str:
     )
     if ref is None:
         raise UserError(f"--reference {reference!r}: no such group")
+    if margin is not None and not (np.isfinite(margin) and margin > 0):
+        raise UserError(f"margin must be a finite number > 0, got {margin}")
+    head = [f"HL shift vs {ref.label} [95 % CI]", "Mann–Whitney p"]
+    if margin is not None:
+        head += [f"TOST p vs ±{margin:g}", "seeds for 80 % power"]
+    head.append("verdict")
     lines = [
-        f"| group | runs | evaluations per run | best fitness: median [q1, q3] | "
-        f"range | Mann–Whitney vs {ref.label}: U, p |",
-        "| --- | --- | --- | --- | --- | --- |",
+        "| group | runs | evaluations per run | best fitness: median [q1, q3] | "
+        f"range | {' | '.join(head)} |",
+        "| --- " * (5 + len(head)) + "|",
     ]
     for g in groups:
         q1, med, q3 = g.quartiles()
         ev = (f"{g.evaluations.min():,}" if g.evaluations.min() == g.evaluations.max()
               else f"{g.evaluations.min():,}-{g.evaluations.max():,}")  # fmt: skip
-        test = "-"
-        if g is not ref:
-            u, p = mann_whitney(g.best, ref.best)
-            test = f"{u:g}, {p:.3g}"
         lines.append(
             f"| {g.label} | {len(g.runs)} | {ev} | {med:.4g} [{q1:.4g}, {q3:.4g}] | "
-            f"{g.best.min():.4g} - {g.best.max():.4g} | {test} |"
+            f"{g.best.min():.4g} - {g.best.max():.4g} | "
+            f"{' | '.join(_tests(g, ref, margin))} |"
         )
     return "\n".join(lines)
+
+
+def _tests(g: Group, ref: Group, margin: float | None) -> list[str]:
+    """The table's cells comparing ``g`` with ``ref``."""
+    blank = ["-", "-"] + (["-", "-"] if margin is not None else [])
+    if g is ref:
+        return [*blank, "reference"]
+    if min(len(g.runs), len(ref.runs)) < 2:
+        return [*blank, "no test: a group of one run"]
+    if not (np.all(np.isfinite(g.best)) and np.all(np.isfinite(ref.best))):
+        return [*blank, "no test: a best fitness is not finite"]
+    c = compare_samples(Sample(g.label, g.best), Sample(ref.label, ref.best),
+                        margin=margin)  # fmt: skip
+    cells = [interval_text(c), p_text(c.p)]
+    if margin is not None:
+        power = "-" if c.seeds_for_power is None else str(c.seeds_for_power)
+        cells += [p_text(c.p_equivalence), power]
+    return [*cells, c.verdict]
 
 
 def convergence_figure(groups: Sequence[Group], path: str | os.PathLike,
