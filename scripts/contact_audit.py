@@ -6,7 +6,8 @@ terrain of ``--terrain-seeds`` (default 100-119, held out), at the physics it
 trained with (``--substeps`` to change): per run, the share of control steps
 touching a wall (mean over terrains, the largest, and on how many terrains
 any), the deepest penetration of any contact (over every terrain and
-substep) with its geoms, step and approach speed, the deepest into a wall,
+substep) with its geoms, step and the speed they met at (along the contact
+normal, and in all), the deepest into a wall,
 and on how many terrains the deepest contact passes the 5 % body-length gate
 ``tests/test_debris.py`` applies to rule-based and random controllers. All
 from :mod:`locustjump.present.episodes` (``score_run``, ``deepest_contact``).
@@ -85,18 +86,18 @@ def main(argv: list[str] | None = None) -> int:
             print(f"done {run}", file=sys.stderr, flush=True)
     print(f"Terrains {args.terrain_seeds}; the gate: {GATE_BL:.0%} of a body length\n")
     print("| run | mean E | height term | distance term | wall contact: mean, "
-          "max (terrains) | deepest (m, % BL): geoms, step, approach | "
-          "deepest into a wall (m, % BL): geoms, approach | terrains over "
+          "max (terrains) | deepest (m, % BL): geoms, step, approach (speed) | "
+          "deepest into a wall (m, % BL): geoms, approach (speed) | terrains over "
           "the gate |")  # fmt: skip
     print("| --- " * 8 + "|")
     for r in rows:
         bl, d, w = r["body_length_m"], r["deepest"], r["deepest_wall"]
         deep = (f"{d['depth_m']:.4f} ({d['depth_m'] / bl:.1%}): "
                 f"{' / '.join(d['geoms'])}, terrain {d['terrain']} step {d['step']}, "
-                f"{d['approach_speed']:.1f} m/s")  # fmt: skip
+                f"{d['approach_speed']:.1f} ({d['speed']:.1f}) m/s")  # fmt: skip
         wall = "" if w is None else (
             f"{w['depth_m']:.4f} ({w['depth_m'] / bl:.1%}): {' / '.join(w['geoms'])}, "
-            f"{w['approach_speed']:.1f} m/s")  # fmt: skip
+            f"{w['approach_speed']:.1f} ({w['speed']:.1f}) m/s")  # fmt: skip
         walls = (f"{r['wall_contact_mean']:.1%}, {r['wall_contact_max']:.1%} "
                  f"({r['terrains_touching_walls']})")  # fmt: skip
         print(f"| {r['run']} | {r['mean_fitness']:.0f} | {r['mean_height_term']:.0f} | "

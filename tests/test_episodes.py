@@ -128,4 +128,5 @@ def test_the_deepest_contact_is_found_again_by_its_replay(debris_run):
     c = deepest_contact(debris_run, terrain=100)
     assert c.terrain == 100 and c.depth_m == pytest.approx(s.penetration_m, abs=1e-12)
     assert c.geoms[0] and c.geoms[1] and c.normal_force > 0
+    assert c.speed >= abs(c.approach_speed)
     assert 0 < c.step <= 3000 and 0 <= c.substep < 3

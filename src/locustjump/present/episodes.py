@@ -204,6 +204,10 @@ class DeepestContact:
     #: (m/s) speed at which they approached along the contact normal at the
     #: first substep of this spell of contact between them
     approach_speed: float
+    #: (m/s) their relative speed then, in any direction: a limb this fast
+    #: moves ``speed * timestep`` in one substep, so its first contact may be
+    #: found that deep already (MuJoCo has no continuous collision detection)
+    speed: float
     #: (N) the contact's normal force at the deepest substep
     normal_force: float
 
@@ -229,8 +233,8 @@ def deepest_contact(
     The episode is simulated on the run's engine (recording the servo targets
     and ``penetration``), then its servo targets are replayed, open loop, on
     one ``MjData`` (the same arithmetic as the engine's, so the same states):
-    the contact found deepest at a substep, and the approach speed along its
-    normal when its two geoms last came into contact.
+    the contact found deepest at a substep, and the speeds at which its two
+    geoms met when they last came into contact.
 
     Raises:
       ValueError: the replay did not reproduce the recorded penetration.
@@ -278,14 +282,14 @@ def _replay(
 ) -> dict[str, Any]:
     """From start state ``e``, servo targets ``ctrl (T + 1, nu)`` replayed up
     to control step ``until``: the deepest contact (of a geom named
-    ``among...`` if given; step -1: none) and the approach speed when its
-    geoms began touching."""
+    ``among...`` if given; step -1: none) and the speeds at which its geoms
+    began touching."""
     d = mujoco.MjData(m)
     d.qpos[:], d.qvel[:], d.ctrl[:] = starts.qpos[e], starts.qvel[e], starts.ctrl[e]
     mujoco.mj_forward(m, d)
     names = [m.geom(g).name for g in range(m.ngeom)]
     watch = np.array([among is None or n.startswith(among) for n in names])
-    onset: dict[tuple[int, int], float] = {}  # pair -> approach speed at onset
+    onset: dict[tuple[int, int], tuple] = {}  # pair -> speeds at its onset
     best: dict[str, Any] = {"step": -1, "depth_m": -np.inf}
     for t in range(until + 1):
         d.ctrl[:] = ctrl[t]
@@ -311,18 +315,19 @@ def _replay(
                 pair = (int(g1[i]), int(g2[i]))
                 best = {"step": t, "substep": sub, "depth_m": float(-d.contact.dist[i]),
                         "geoms": (names[pair[0]], names[pair[1]]),
-                        "approach_speed": onset[pair],
+                        "approach_speed": onset[pair][0], "speed": onset[pair][1],
                         "normal_force": float(force[0])}  # fmt: skip
     return best
 
 
-def _approach_speed(m: mujoco.MjModel, d: mujoco.MjData, c) -> float:
+def _approach_speed(m: mujoco.MjModel, d: mujoco.MjData, c) -> tuple[float, float]:
     """(m/s) how fast contact ``c``'s geoms approach each other along its
-    normal at its point (positive: closing)."""
+    normal at its point (positive: closing), and their relative speed."""
     v = []
     for g in (c.geom1, c.geom2):
         vel = np.zeros(6)  # (angular, linear) at the geom's frame, world axes
         mujoco.mj_objectVelocity(m, d, mujoco.mjtObj.mjOBJ_GEOM, int(g), vel, 0)
         v.append(vel[3:] + np.cross(vel[:3], c.pos - d.geom_xpos[g]))
     # the normal points from geom1 to geom2: closing when geom2 moves against it
-    return float(-(v[1] - v[0]) @ c.frame[:3])
+    rel = v[1] - v[0]
+    return float(-rel @ c.frame[:3]), float(np.linalg.norm(rel))
