@@ -42,6 +42,17 @@ Usage::
         [--flat-study results/long-seed0 results/study/long/seed-*] \\
         [--substeps 12] [--json FILE] [--figure FILE]
 
+Every row also shows (``present.episodes.episode_score``, issue #44) the
+two terms of E, each the mean over the terrains (they add up to the mean E):
+the height term (Eq. 4 above the ground) and the distance term (200 x
+forward progress); the share of control steps the creature touched a wall
+(mean over the terrains; "time beside the rubble" is 0 by construction once
+the field has walls, this is not) and the deepest penetration of any of its
+contacts, floor, rubble or walls (m, the maximum over the terrains and every
+physics substep; ``tests/test_debris.py`` holds rule-based and random
+controllers under 5 % of a body length, 0.025 m; ``scripts/contact_audit.py``
+names the geoms).
+
 The held-out mean of a run is the mean of its fitness over the terrains
 (as ``locustjump evaluate RUN --terrain-seeds`` computes, which it equals at
 the training physics); the gap is its training fitness minus that, at the
@@ -63,18 +74,16 @@ from scipy.stats import mannwhitneyu
 
 from locustjump import rundir
 from locustjump.present.compare import TOTAL_LABEL, convergence_figure, load_groups
+from locustjump.present.episodes import episode_score
 from locustjump.runs.multiseed import parse_seeds
 from locustjump.sim import model as lm
 from locustjump.sim.analysis import find_jumps, stuck_overturned
 from locustjump.sim.engine.backends import ThreadBackend
-from locustjump.sim.engine.rollout import rollout
+from locustjump.sim.engine.job import CONTACT_RECORDS
+from locustjump.sim.engine.rollout import RolloutResult, rollout
 from locustjump.sim.scene import Debris
-from locustjump.tasks.composed import (
-    OVERTURNED_UZ,
-    START_ROLL,
-    overturns,
-    successive_fitness,
-)
+from locustjump.tasks import get_behaviour
+from locustjump.tasks.composed import OVERTURNED_UZ, START_ROLL, overturns
 from locustjump.tasks.getup import rolled_starts
 from locustjump.tasks.rules import (
     DEFAULT_CHANGE_TIME,
@@ -87,29 +96,38 @@ STEPS = 3000
 
 
 def episodes(ctrl, params, starts, p, scene, backend) -> list[dict]:
-    """Debris fitness, jumps, overturns of each controller row of ``params``."""
+    """Debris fitness and its terms, jumps, overturns, wall contact and
+    deepest penetration of each controller row of ``params``
+    (``present.episodes.episode_score`` in the composed behaviour's episode)."""
+    record = ("qpos", "obs", *CONTACT_RECORDS)
     res = rollout(ctrl, params, starts, STEPS, model_params=p, scene=scene,
-                  record=("qpos", "obs"), backend=backend)  # fmt: skip
+                  record=record, backend=backend)  # fmt: skip
+    here = get_behaviour("monolithic").on(scene)  # the composed one's episode
     half = scene.width / 2 * p.body_length  # the rubble's half width (m)
     rows = []
-    for q, obs, bad in zip(res["qpos"], res["obs"], res.unstable, strict=True):
+    for e, (q, obs) in enumerate(zip(res["qpos"], res["obs"], strict=True)):
+        one = RolloutResult({k: v[e : e + 1] for k, v in res.records.items()},
+                            res.unstable[e : e + 1], res.steps[e : e + 1])  # fmt: skip
+        score = episode_score(here, one, p, float(here.fitness(one, p)[0]))
         uz = obs[:, 8]
         over, rec = overturns(uz)
         jumps = find_jumps(q, p, scene)
         stuck = stuck_overturned(uz)
         end = len(q) - 1 if stuck is None else stuck
         rows.append({
-            "fitness": 0.0 if bad else float(successive_fitness(q, p, scene)),
-            "jumps": len(jumps),
+            "fitness": score.fitness,
+            "height_term": score.height_term,
+            "distance_term": score.distance_term,
+            "jumps": score.jumps,
             "jumps_before_stuck": sum(j.start < end for j in jumps),
             "overturned": over,
             "recovered": rec,
-            "distance_m": float(q[-1, 0] - q[0, 0]),
-            "highest_m": float(
-                (q[:, 2] - scene.heights(q[:, 0], q[:, 1], p.body_length)).max()
-            ),
+            "distance_m": score.distance_m,
+            "highest_m": score.highest_m,
             "upright": float(np.mean(uz[1:] >= OVERTURNED_UZ)),
             "off_field": float(np.mean(np.abs(q[1:, 1]) > half)),
+            "wall_contact": score.wall_contact,
+            "penetration_m": score.penetration_m,
         })  # fmt: skip
     return rows
 
@@ -179,6 +197,10 @@ def summary(label: str, rows: list[dict]) -> dict:
         "highest_m": float(max(r["highest_m"] for r in rows)),  # any terrain
         "upright": float(np.mean([r["upright"] for r in rows])),
         "off_field": float(np.mean([r["off_field"] for r in rows])),
+        "height_term": float(np.mean([r["height_term"] for r in rows])),
+        "distance_term": float(np.mean([r["distance_term"] for r in rows])),
+        "wall_contact": float(np.mean([r["wall_contact"] for r in rows])),
+        "penetration_m": float(max(r["penetration_m"] for r in rows)),  # any terrain
     }
 
 
@@ -308,19 +330,22 @@ def main(argv: list[str] | None = None) -> int:
           f"{args.substeps} physics substeps; fitness E: Eq. 4 above the ground "
           "under the body + 200 x forward progress (m x steps)\n")  # fmt: skip
     print(
-        "| controller | median E | mean E | jumps | jumps before stuck | "
-        "overturned / recovered | time upright | time beside the rubble | "
+        "| controller | median E | mean E | height term | distance term | jumps | "
+        "jumps before stuck | overturned / recovered | time upright | "
+        "time beside the rubble | wall contact | deepest penetration (m) | "
         "distance (m) | highest (m) | training E | gap | gain in the last third |"
     )
-    print("| --- " * 13 + "|")
+    print("| --- " * 17 + "|")
     for x in table:
         train = f"{x['train_fitness']:.0f}" if "train_fitness" in x else ""
         gap = f"{x['gap']:.0f}" if x.get("gap") is not None else ""
         late = f"{x['late_gain']:.0%}" if "late_gain" in x else ""
         print(f"| {x['controller']} | {x['median_fitness']:.0f} | "
-              f"{x['mean_fitness']:.0f} | {x['jumps']:.1f} | "
+              f"{x['mean_fitness']:.0f} | {x['height_term']:.0f} | "
+              f"{x['distance_term']:.0f} | {x['jumps']:.1f} | "
               f"{x['jumps_before_stuck']:.1f} | {x['overturned']:.1f} / "
               f"{x['recovered']:.1f} | {x['upright']:.0%} | {x['off_field']:.0%} | "
+              f"{x['wall_contact']:.1%} | {x['penetration_m']:.4f} | "
               f"{x['distance_m']:.2f} | {x['highest_m']:.2f} | {train} | "
               f"{gap} | {late} |")  # fmt: skip
     out = {"table": table, "held_out": held, "late_gain": gains}

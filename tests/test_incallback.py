@@ -16,7 +16,8 @@ from locustjump.sim.controller import MLP
 from locustjump.sim.engine import incallback, mjlayout
 from locustjump.sim.engine.compiled import run_compiled
 from locustjump.sim.engine.incallback import run_incallback
-from locustjump.sim.engine.rollout import RECORDABLE, RolloutJob, StartStates
+from locustjump.sim.engine.job import STEP_RECORDS
+from locustjump.sim.engine.rollout import RolloutJob, StartStates
 from locustjump.tasks import get_behaviour
 from locustjump.tasks.composed import SwitchingController
 
@@ -62,7 +63,7 @@ def _getup_job(substeps: int, controller, n: int, steps: int, seed: int = 0):
     rng = np.random.default_rng(seed)
     params = rng.uniform(-1, 1, (n, controller.num_params))
     return RolloutJob(p, controller, params, starts.take(np.arange(n) % len(starts)),
-                      steps, RECORDABLE, engine="numba")  # fmt: skip
+                      steps, STEP_RECORDS, engine="numba")  # fmt: skip
 
 
 @pytest.mark.parametrize("substeps", [1, 3])
@@ -91,7 +92,7 @@ def test_blowups_are_simulated_again_on_the_step_loop():
     starts = StartStates.ready(lm.load_model(p)).take([0, 0, 0, 0])
     starts.qvel[:, :] = np.array([0.0, 100.0, 0.0, 1e30])[:, None]
     genome = MLP().random_genomes(np.random.default_rng(1), 1, 3.0)
-    job = RolloutJob(p, MLP(), np.repeat(genome, 4, 0), starts, 120, RECORDABLE,
+    job = RolloutJob(p, MLP(), np.repeat(genome, 4, 0), starts, 120, STEP_RECORDS,
                      engine="numba")  # fmt: skip
     a, b = _both(job)
     _same(a, b)

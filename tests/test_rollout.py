@@ -1,5 +1,7 @@
 """The batched engine against the single-MjData reference, and determinism."""
 
+import dataclasses
+
 import numpy as np
 import pytest
 from mujoco.batch import Batch
@@ -9,7 +11,7 @@ from locustjump.sim.controller import MLP
 from locustjump.sim.engine import strategies
 from locustjump.sim.engine.backends import ThreadBackend
 from locustjump.sim.engine.episode import reference_rollout
-from locustjump.sim.engine.job import ENGINES
+from locustjump.sim.engine.job import ENGINES, RECORDABLE
 from locustjump.sim.engine.rollout import (
     RolloutJob,
     RolloutResult,
@@ -17,8 +19,10 @@ from locustjump.sim.engine.rollout import (
     rollout,
 )
 from locustjump.sim.engine.strategies import STRATEGIES, run_batch
+from locustjump.sim.scene import Debris
 from locustjump.tasks.composed import SwitchingController
 from locustjump.tasks.rules import RuleController
+from locustjump.tasks.starts import ready_state
 
 RECORD = ("qpos", "obs", "ctrl", "memory")
 
@@ -211,3 +215,54 @@ def test_a_thread_backend_is_closed_by_its_context_manager(params):
     )
     with pytest.raises(RuntimeError, match="closed"):
         b.run(None)
+
+
+def _walled_job(p: lm.LocustParams, ctl, params, record):
+    """Four episodes in a walled debris field: thrown sideways and backwards
+    at the walls (6 m/s), left alone, and blown up after a few steps."""
+    scene = Debris(seed=2)
+    s = ready_state(p, scene)
+    starts = StartStates(*(np.repeat(a, 4, axis=0) for a in (s.qpos, s.qvel, s.ctrl)))
+    starts.qvel[0, :3] = (0.0, 6.0, 2.0)
+    starts.qvel[1, :3] = (-6.0, 0.0, 2.0)
+    starts.qvel[3, :] = 300.0
+    return RolloutJob(p, ctl, params, starts, 150, record, scene=scene)
+
+
+@pytest.mark.parametrize("strategy", list(STRATEGIES))
+def test_contact_records_are_the_references_on_every_strategy(params, strategy):
+    """penetration and wall_contact (from the contact sensors, reduced over
+    the substeps by the loop) are bit for bit those the reference reads from
+    MuJoCo's contacts after every substep, on every strategy; a creature
+    thrown at a wall touches it, one left alone in the field does not."""
+    rc = RuleController.for_model(params)
+    job = _walled_job(params, rc, rc.params_for([0.0, 0.25, 0.5, 0.1]), RECORDABLE)
+    m = lm.load_model(params, job.scene)
+    got = STRATEGIES[strategy](Batch(m, 4, 2, persistent=True), job)
+    ref = reference_rollout(job)
+    assert got.unstable.tolist() == [False, False, False, True]
+    _equal(got, ref)
+    pen, wall = got["penetration"], got["wall_contact"]
+    assert pen.shape == wall.shape == (4, 151)
+    assert (wall[:2].sum(axis=1) > 0).all() and (wall[2] == 0).all()
+    assert set(np.unique(wall)) <= {0.0, 1.0}
+    assert (pen >= 0).all() and (pen[:3].max(axis=1) > 0).all()
+    assert (pen[3, got.steps[3] :] == pen[3, got.steps[3]]).all()  # frozen
+
+
+@pytest.mark.parametrize("strategy", list(STRATEGIES))
+def test_recording_contacts_changes_no_other_record(params, strategy):
+    """Networks too: the other records of a job that also records contacts
+    are bit for bit those of the same job without (the in-callback strategy
+    runs it on its step-by-step loop, whose numbers are its own)."""
+    rng = np.random.default_rng(4)
+    genomes = MLP().random_genomes(rng, 4, scale=2.0)
+    job = _walled_job(params, MLP(), genomes, RECORD)
+    both = dataclasses.replace(job, record=RECORDABLE)
+    m = lm.load_model(params, job.scene)
+    plain = STRATEGIES[strategy](Batch(m, 4, 2, persistent=True), job)
+    more = STRATEGIES[strategy](Batch(m, 4, 2, persistent=True), both)
+    for k in RECORD:
+        np.testing.assert_array_equal(more[k], plain[k], err_msg=k)
+    np.testing.assert_array_equal(more.steps, plain.steps)
+    np.testing.assert_array_equal(more.unstable, plain.unstable)

@@ -3,8 +3,9 @@
 The creature (:mod:`~locustjump.sim.creature`: bodies, joints, servos, touch
 sensors) and the scene (:mod:`~locustjump.sim.scene`: the floor, or another
 world) each write their pieces; this module writes what they share: the
-solver options, the contact model, the light and the fixed camera, and one
-contact pair per (scene geom, creature geom).
+solver options, the contact model, the light and the fixed camera, one
+contact pair per (scene geom, creature geom), and the contact sensors the
+engine records penetration and wall contact from (they observe only).
 
 The physics timestep is ``CONTROL_DT / substeps``; contact softness is fixed in
 seconds (``solref``) so that refining the timestep does not change the contact
@@ -59,6 +60,22 @@ def contact_pairs(scene_geoms: tuple[str, ...]) -> list[tuple[str, str]]:
     return [(g, c) for g in scene_geoms for c in CONTACT_GEOMS]
 
 
+def contact_sensors(walls: tuple[str, ...]) -> str:
+    """The contact sensors the engine records from (``penetration``,
+    ``wall_contact``): the signed distance (m, negative: penetrating) of the
+    creature's deepest contact, 0 without one; per geom of ``walls`` the number
+    of its contacts. Position-stage sensors: they read the contacts, never
+    change them."""
+    deepest = (
+        f'\n    <contact name="{names.DEEPEST_CONTACT}" subtree1="{names.BODY}" '
+        'data="dist" reduce="mindist" num="1"/>'
+    )
+    return deepest + "".join(
+        f'\n    <contact name="{names.WALL_CONTACT}{i}" geom1="{w}" data="found"/>'
+        for i, w in enumerate(walls)
+    )
+
+
 def to_mjcf(
     p: LocustParams = LocustParams(), *, scene: Scene = Flat(), keyframe: bool = True
 ) -> str:
@@ -78,6 +95,7 @@ def to_mjcf(
     pairs = "".join(
         f'\n    <pair geom1="{g}" geom2="{c}"/>' for g, c in contact_pairs(world.geoms)
     )
+    probes = contact_sensors(world.walls)
     xml = f"""<mujoco model="locust">
   <compiler angle="degree" autolimits="true"/>
   <option timestep="{p.timestep:.12g}" integrator="{p.integrator}" cone="pyramidal"
@@ -111,7 +129,7 @@ def to_mjcf(
   </worldbody>
   <contact>{pairs}</contact>
   <actuator>{creature.actuators}</actuator>
-  <sensor>{creature.sensors}</sensor>
+  <sensor>{creature.sensors}{probes}</sensor>
 </mujoco>
 """
     if keyframe:  # the creature's ready posture, settled on the flat floor
@@ -177,14 +195,25 @@ class ModelIndex:
     touch: np.ndarray = field(repr=False)  # (2,) sensordata address per tarsus
     ranges: np.ndarray = field(repr=False)  # (4, 2) joint ranges, radians
     ready_key: int = -1
+    #: sensordata address of the deepest contact's signed distance (m)
+    deepest: int = -1
+    #: (k,) sensordata addresses of the wall sensors (contacts of each wall)
+    walls: np.ndarray = field(default_factory=lambda: np.empty(0, int), repr=False)
+    #: (k,) the geom each of them watches
+    wall_geoms: np.ndarray = field(default_factory=lambda: np.empty(0, int), repr=False)
 
     @classmethod
     def of(cls, m: mujoco.MjModel) -> ModelIndex:
         jids = [m.joint(j).id for j in names.ACTUATED_JOINTS]
+        sensors = [m.sensor(i).name for i in range(m.nsensor)]
+        walls = [i for i, s in enumerate(sensors) if s.startswith(names.WALL_CONTACT)]
         return cls(
             qpos_joints=np.array([m.jnt_qposadr[j] for j in jids]),
             qvel_joints=np.array([m.jnt_dofadr[j] for j in jids]),
             touch=np.array([m.sensor_adr[m.sensor(s).id] for s in names.TOUCH_SENSORS]),
             ranges=np.array([m.jnt_range[j] for j in jids]),
             ready_key=m.key(READY_KEY).id if m.nkey else -1,
+            deepest=int(m.sensor_adr[m.sensor(names.DEEPEST_CONTACT).id]),
+            walls=m.sensor_adr[walls].astype(int),
+            wall_geoms=m.sensor_objid[walls].astype(int),
         )

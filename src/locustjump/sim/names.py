@@ -30,6 +30,11 @@ TIBIAE = ("tibia_l", "tibia_r")  #: bodies and their geoms
 TARSI = ("tarsus_l", "tarsus_r")  #: sphere geoms at the tibia tips
 TARSUS_SITES = ("tarsus_site_l", "tarsus_site_r")
 TOUCH_SENSORS = ("touch_l", "touch_r")  #: on the tarsus sites (input I5)
+#: Contact sensors the engine records from (``penetration``, ``wall_contact``):
+#: the signed distance of the creature's deepest contact, and per wall geom of
+#: the scene the number of its contacts: wall_contact0, wall_contact1, ...
+DEEPEST_CONTACT = "deepest_contact"
+WALL_CONTACT = "wall_contact"
 
 CAMERA_TRACK = "track"  #: follows the body from the side
 CAMERA_SIDE = "side"  #: fixed, looking at the start

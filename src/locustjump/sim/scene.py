@@ -45,6 +45,10 @@ class SceneMJCF:
     #: with the creature through MuJoCo's broad phase: the creature's geoms then
     #: get ``contype="1"`` (they still never collide with each other)
     broad_phase: bool = False
+    #: geoms that bound the world rather than make its ground (walls): the
+    #: engine records the control steps in which the creature touches them
+    #: (``wall_contact``)
+    walls: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -261,7 +265,8 @@ class Debris(Flat):
         # them (with the boxes' friction a network learnt to wall-jump 4.9 m
         # high and over them)
         wall = 'contype="0" conaffinity="1" priority="2" condim="1"'
-        for i, (x, y, sx, sy) in enumerate(self.walls(body_length)):
+        walls = self.walls(body_length)
+        for i, (x, y, sx, sy) in enumerate(walls):
             h = self.wall_height * body_length
             geoms.append(
                 f'<geom name="{names.WALL}{i}" type="box" material="wall" '
@@ -275,6 +280,7 @@ class Debris(Flat):
             worldbody=floor.worldbody + "\n    " + "\n    ".join(geoms),
             geoms=floor.geoms,
             broad_phase=True,
+            walls=tuple(f"{names.WALL}{i}" for i in range(len(walls))),
         )
 
     def heights(self, x: np.ndarray, y: np.ndarray, body_length: float) -> np.ndarray:

@@ -97,6 +97,8 @@ class Behaviour:
     ``gym_id``, :meth:`reward`  its Gymnasium environment and per-step reward
     ``Options``                 its settings beyond the paper (a frozen
                                 dataclass; ``[options]`` of ``config.toml``)
+    :meth:`episode_terms`       the named terms its fitness adds up (default:
+                                none)
     ==========================  ================================================
 
     Its figures and rows of ``results.md``: a
@@ -159,6 +161,13 @@ class Behaviour:
     def episode_fitness(self, res: RolloutResult, p: lm.LocustParams) -> np.ndarray:
         """(n_episodes,) fitness of each episode of ``res``."""
         raise NotImplementedError
+
+    def episode_terms(
+        self, res: RolloutResult, p: lm.LocustParams
+    ) -> dict[str, np.ndarray]:
+        """Named ``(n_episodes,)`` terms that :meth:`episode_fitness` adds up,
+        in the order added; empty (the default): no split."""
+        return {}
 
     def reference(
         self,
@@ -231,6 +240,21 @@ class Behaviour:
         f = np.where(res.unstable, self.worst_fitness, self.episode_fitness(res, p))
         k = len(self.start_states(p))
         return f.reshape(-1, k).mean(axis=1)
+
+    def fitness_terms(
+        self, res: RolloutResult, p: lm.LocustParams
+    ) -> dict[str, np.ndarray]:
+        """(n_controllers,) each of :meth:`episode_terms`, scored as
+        :meth:`fitness` scores the episodes: an unstable episode's first term
+        is ``worst_fitness``, its others 0; the mean over start states. They
+        add up to :meth:`fitness` (exactly with one start state, else to
+        rounding)."""
+        k = len(self.start_states(p))
+        out = {}
+        for i, (name, v) in enumerate(self.episode_terms(res, p).items()):
+            v = np.where(res.unstable, self.worst_fitness if i == 0 else 0.0, v)
+            out[name] = v.reshape(-1, k).mean(axis=1)
+        return out
 
     def evaluate(
         self,

@@ -70,10 +70,24 @@ def successive_fitness(
     (the start, then every control step) in ``scene``: Eq. 4 on the flat floor;
     on a terrain, Eq. 4 above the ground under the body plus
     ``PROGRESS_WEIGHT`` times the forward progress (module docstring)."""
-    e = clearance(qpos, p, scene)[..., 1:].sum(axis=-1)
+    height, distance = successive_terms(qpos, p, scene)
     if scene.is_flat:
-        return e
-    return e + PROGRESS_WEIGHT * (qpos[..., -1, 0] - qpos[..., 0, 0])
+        return height
+    return height + distance
+
+
+def successive_terms(
+    qpos: np.ndarray, p: lm.LocustParams, scene: Scene = Flat()
+) -> tuple[np.ndarray, np.ndarray]:
+    """The two terms of :func:`successive_fitness` of trajectories ``qpos
+    (..., T + 1, nq)``, which it adds: Eq. 4's sum of the body centre's height
+    above the ground under it (m x steps), and ``PROGRESS_WEIGHT`` times the
+    forward progress (m x steps; 0 on the flat floor, where the fitness is
+    Eq. 4 alone)."""
+    height = clearance(qpos, p, scene)[..., 1:].sum(axis=-1)
+    if scene.is_flat:
+        return height, np.zeros_like(height)
+    return height, PROGRESS_WEIGHT * (qpos[..., -1, 0] - qpos[..., 0, 0])
 
 
 @dataclass(frozen=True)
@@ -210,6 +224,14 @@ class Successive(Behaviour):
     def episode_fitness(self, res: RolloutResult, p: lm.LocustParams) -> np.ndarray:
         return successive_fitness(res["qpos"], p, self.scene)
 
+    def episode_terms(
+        self, res: RolloutResult, p: lm.LocustParams
+    ) -> dict[str, np.ndarray]:
+        """``height`` (Eq. 4 above the ground) and ``distance`` (200 x forward
+        progress): :func:`successive_terms`."""
+        height, distance = successive_terms(res["qpos"], p, self.scene)
+        return {"height": height, "distance": distance}
+
     def metrics(
         self,
         res: RolloutResult,
@@ -283,5 +305,6 @@ __all__ = [
     "SwitchingController",
     "overturns",
     "successive_fitness",
+    "successive_terms",
     "PROGRESS_WEIGHT",
 ]

@@ -17,7 +17,7 @@ from mujoco.batch import Batch
 from locustjump.sim import actuation, sensors
 from locustjump.sim import model as lm
 from locustjump.sim.engine.job import (
-    RECORDABLE,
+    STEP_RECORDS,
     UNSTABLE,
     Recorder,
     RolloutJob,
@@ -52,7 +52,7 @@ class CompiledStep:
         self.lo = np.ascontiguousarray(idx.ranges[:, 0])
         self.hi = np.ascontiguousarray(idx.ranges[:, 1])
         none = np.empty((0, 0, 0))
-        records = Records(*(self.recorder.arrays.get(k, none) for k in RECORDABLE))
+        records = Records(*(self.recorder.arrays.get(k, none) for k in STEP_RECORDS))
         self.rollout = Rollout(
             sens=sens,
             qpos=batch.bind("qpos"),

@@ -15,8 +15,10 @@ from locustjump.sim.engine.job import (
     RolloutJob,
     RolloutResult,
     StartStates,
+    depth,
     observer,
     record_shapes,
+    records_contacts,
     went_unstable,
 )
 from locustjump.sim.scene import Flat, Scene
@@ -33,10 +35,19 @@ class Episode:
         obs = ep.reset(starts, 0)            # (1, 9)
         obs = ep.step(deltas)                # deltas (1, 4), radians
         ep.unstable                          # the simulation went unstable
+
+    With ``contacts``, it also keeps :data:`~.job.CONTACT_RECORDS` of the
+    last control step, read from MuJoCo's contacts after every substep (not
+    from the contact sensors the engine reads): :attr:`penetration` (m) and
+    :attr:`wall_contact` (1.0 or 0.0).
     """
 
     def __init__(
-        self, model_params: lm.LocustParams = lm.LocustParams(), scene: Scene = Flat()
+        self,
+        model_params: lm.LocustParams = lm.LocustParams(),
+        scene: Scene = Flat(),
+        *,
+        contacts: bool = False,
     ):
         self.params = model_params
         self.model = lm.load_model(model_params, scene)
@@ -45,6 +56,8 @@ class Episode:
         self._observe = observer(self.index, model_params)
         self._touch = self.data.sensordata.copy()  # sensordata, max over substeps
         self.unstable = False
+        self.contacts = contacts
+        self.penetration = self.wall_contact = 0.0
 
     def reset(self, starts: StartStates, i: int = 0) -> np.ndarray:
         """Start from state ``i`` of ``starts``; the (1, 9) inputs there."""
@@ -54,7 +67,20 @@ class Episode:
         mujoco.mj_forward(m, d)
         self._touch[:] = d.sensordata
         self.unstable = False
+        if self.contacts:
+            dist, wall = self._contacts()
+            self.penetration, self.wall_contact = float(depth(dist)), float(wall)
         return self.observe()
+
+    def _contacts(self) -> tuple[float, bool]:
+        """(smallest signed distance (m), 0 without a contact; whether one is
+        with a wall) of the contacts MuJoCo found last."""
+        c = self.data.contact
+        n = self.data.ncon
+        dist = float(c.dist[:n].min()) if n else 0.0
+        geoms = np.concatenate([c.geom1[:n], c.geom2[:n]])
+        wall = bool(np.isin(geoms, self.index.wall_geoms).any())
+        return dist, wall
 
     def observe(self) -> np.ndarray:
         """The (1, 9) paper inputs now (touch: over the last control step)."""
@@ -68,12 +94,18 @@ class Episode:
         touch = self._touch
         touch[:] = -np.inf
         error = None
+        dist, wall = np.inf, False
         try:
             for _ in range(self.params.substeps):
                 mujoco.mj_step(m, d)
                 np.maximum(touch, d.sensordata, out=touch)
+                if self.contacts:
+                    here, at_wall = self._contacts()
+                    dist, wall = min(dist, here), wall or at_wall
         except mujoco.FatalError:
             error = np.array([0])
+        if self.contacts:
+            self.penetration, self.wall_contact = float(depth(dist)), float(wall)
         failed = went_unstable(d.qpos[None], d.warning.number[None], error)[0]
         self.unstable = self.unstable or bool(failed)
         return self.observe()
@@ -84,7 +116,7 @@ def reference_rollout(job: RolloutJob) -> RolloutResult:
 
     Slow; kept to test the engine against (same results, bit for bit).
     """
-    ep = Episode(job.model_params, job.scene)
+    ep = Episode(job.model_params, job.scene, contacts=records_contacts(job))
     ctl = job.controller
     parts = []
     for e in range(job.n_episodes):
@@ -96,6 +128,7 @@ def reference_rollout(job: RolloutJob) -> RolloutResult:
             job.record, 1, job.n_steps, record_shapes(ep.model.nq, ctl.memory_size)
         )
         rec.write(0, d.qpos[None], obs, d.ctrl[None], memory)
+        rec.write_contacts(0, 0, ep.penetration, ep.wall_contact)
         steps = job.n_steps
         for t in range(job.n_steps):
             deltas, memory = ctl.act(prepared, memory, obs, d.ctrl[None], t)
@@ -105,6 +138,7 @@ def reference_rollout(job: RolloutJob) -> RolloutResult:
                 rec.fill_from(t + 1)
                 break
             rec.write(t + 1, d.qpos[None], obs, d.ctrl[None], memory)
+            rec.write_contacts(t + 1, 0, ep.penetration, ep.wall_contact)
         parts.append(
             RolloutResult(rec.arrays, np.array([ep.unstable]), np.array([steps]), steps)
         )

@@ -51,10 +51,11 @@ from locustjump.sim import model as lm
 from locustjump.sim.engine import mjlayout
 from locustjump.sim.engine.compiled import CompiledStep, run_compiled
 from locustjump.sim.engine.job import (
-    RECORDABLE,
+    STEP_RECORDS,
     RolloutJob,
     RolloutResult,
     progress,
+    records_contacts,
     went_unstable,
 )
 from locustjump.sim.engine.loop import begin
@@ -258,10 +259,16 @@ _CHUNK = 100  # control steps per Batch.rollout call when a progress bar shows
 def run_incallback(batch: Batch, job: RolloutJob) -> RolloutResult:
     """:func:`~.compiled.run_compiled`'s result, with the controllers
     stepped inside the batch's threads. Controllers without a compiled kernel,
-    a model without the userdata, or another control callback already
-    installed: the step-by-step loop."""
+    a model without the userdata, another control callback already
+    installed, or a job recording contacts (:data:`~.job.CONTACT_RECORDS`,
+    which the loop reduces over the substeps): the step-by-step loop."""
     ctl = job.controller
-    if not AVAILABLE or batch.model.nuserdata < NUSERDATA or not hasattr(ctl, "kernel"):
+    if (
+        not AVAILABLE
+        or batch.model.nuserdata < NUSERDATA
+        or not hasattr(ctl, "kernel")
+        or records_contacts(job)
+    ):
         return run_compiled(batch, job)
     m, n, T, S = batch.model, job.n_episodes, job.n_steps, job.model_params.substeps
     step = begin(batch, job, CompiledStep)
@@ -324,7 +331,7 @@ def _context(batch: Batch, job: RolloutJob, step: CompiledStep, rec: dict) -> tu
               np.asarray(idx.qpos_joints, np.int64), np.asarray(idx.touch, np.int64),
               step.lo, step.hi, np.zeros((n, 9, 1)), np.zeros((n, 4, 1)),
               np.zeros((n, hidden, 1)), np.zeros((n, choice, 1)),
-              step.memory, *(rec.get(k) for k in RECORDABLE)]  # fmt: skip
+              step.memory, *(rec.get(k) for k in STEP_RECORDS)]  # fmt: skip
     ctx = np.zeros(_LEN, np.int64)
     ctx[:_BL] = (kind, n, job.n_steps, job.model_params.substeps, m.nq,
                  m.nsensordata, m.nu, ctl.memory_size, len(idx.touch), hidden, choice,

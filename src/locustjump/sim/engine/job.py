@@ -18,8 +18,21 @@ from locustjump.sim import model as lm
 from locustjump.sim.controller import Controller
 from locustjump.sim.scene import Flat, Scene
 
-#: What can be recorded per control step, and its per-step shape.
-RECORDABLE = ("qpos", "obs", "ctrl", "memory")
+#: What a control step records (:class:`Recorder`; the compiled kernels'
+#: ``Records``, in this order).
+STEP_RECORDS = ("qpos", "obs", "ctrl", "memory")
+#: What the engine's loop records from the contact sensors (``names``:
+#: ``DEEPEST_CONTACT``, ``WALL_CONTACT``) after every physics call, over the
+#: control step's substeps (:func:`contact_maxima`): ``penetration``, the
+#: deepest penetration (m, >= 0) of any contact of the creature, the maximum
+#: over the substeps; ``wall_contact``, 1.0 when the creature touched a wall
+#: of the scene at any substep, else 0.0. Row 0: at the start state. Like the
+#: touch input, a substep's value is of the state at its start (MuJoCo's
+#: contacts of that ``mj_step``). Observations only: recording them changes
+#: nothing else.
+CONTACT_RECORDS = ("penetration", "wall_contact")
+#: What can be recorded per control step (:func:`record_shapes`: its shape).
+RECORDABLE = STEP_RECORDS + CONTACT_RECORDS
 #: MuJoCo warnings that end an episode: all of them. Bad qpos/qvel/qacc mean
 #: the simulation went unstable (MuJoCo resets its data); ``Batch.rollout``
 #: stops stepping a simulation whose warning counters rise, whichever warning.
@@ -223,7 +236,7 @@ def rollout_bytes(
     """Estimated memory of a rollout of ``n`` episodes: the records, one
     simulation each (its arena dominates) and the per-episode arrays."""
     dims = record_shapes(m.nq, nmem)
-    per_step = sum(dims[k][0] for k in record) * 8.0
+    per_step = sum(int(np.prod(dims[k])) for k in record) * 8.0
     per_episode = (n_steps + 1) * per_step + m.narena + 64 * 1024
     return float(n) * per_episode
 
@@ -231,7 +244,28 @@ def rollout_bytes(
 def record_shapes(nq: int, nmem: int) -> dict[str, tuple[int, ...]]:
     """Per-step shape of each recordable field."""
     return {"qpos": (nq,), "obs": (sensors.N_INPUTS,), "ctrl": (actuation.N_ACTUATORS,),
-            "memory": (nmem,)}  # fmt: skip
+            "memory": (nmem,), "penetration": (), "wall_contact": ()}  # fmt: skip
+
+
+def records_contacts(job: RolloutJob) -> bool:
+    """Whether ``job`` records any of :data:`CONTACT_RECORDS`."""
+    return not set(job.record).isdisjoint(CONTACT_RECORDS)
+
+
+def depth(min_dist: np.ndarray) -> np.ndarray:
+    """Penetration (m, >= 0) of a smallest signed contact distance (m)."""
+    return np.maximum(-np.asarray(min_dist, dtype=np.float64), 0.0)
+
+
+def contact_maxima(
+    sub: np.ndarray, idx: lm.ModelIndex
+) -> tuple[np.ndarray, np.ndarray]:
+    """``(penetration (k,), wall_contact (k,))`` of one control step from the
+    sensordata after each of its substeps, ``sub (k, substeps, nsensordata)``
+    (:data:`CONTACT_RECORDS`)."""
+    pen = depth(sub[:, :, idx.deepest].min(axis=1))
+    wall = (sub[:, :, idx.walls] > 0).any(axis=(1, 2)).astype(np.float64)
+    return pen, wall
 
 
 def progress(job: RolloutJob):
@@ -249,12 +283,16 @@ class Recorder:
 
     The records of every engine strategy: ``arrays`` maps each recorded name
     to an ``(n, T + 1, ...)`` array (row 0 the start state), which the NumPy
-    path fills with :meth:`write` and the compiled kernels fill in place.
+    path fills with :meth:`write` and the compiled kernels fill in place
+    (:data:`STEP_RECORDS`); the loop writes :data:`CONTACT_RECORDS` with
+    :meth:`write_contacts`.
     """
 
     def __init__(self, names: Sequence[str], n: int, T: int, shape: dict):
         self.arrays = {k: np.empty((n, T + 1, *shape[k])) for k in names}
-        self._order = tuple(RECORDABLE.index(k) for k in names)
+        step = [k for k in names if k in STEP_RECORDS]
+        self._order = tuple(STEP_RECORDS.index(k) for k in step)
+        self._step = tuple(self.arrays[k] for k in step)
 
     @classmethod
     def of(cls, job: RolloutJob, nq: int) -> Recorder:
@@ -265,10 +303,27 @@ class Recorder:
     def write(self, t, qpos, obs, ctrl, memory, stopped=None) -> None:
         """Row ``t``; episodes flagged in ``stopped`` repeat row ``t - 1``."""
         src = (qpos, obs, ctrl, memory)
-        for i, a in zip(self._order, self.arrays.values(), strict=True):
+        for i, a in zip(self._order, self._step, strict=True):
             a[:, t] = src[i]
             if stopped is not None:
                 a[stopped, t] = a[stopped, t - 1]
+
+    def write_contacts(
+        self,
+        t: int,
+        ids: np.ndarray,
+        penetration: np.ndarray,
+        wall: np.ndarray,
+        stopped: np.ndarray | None = None,
+    ) -> None:
+        """Row ``t`` of :data:`CONTACT_RECORDS` for episodes ``ids``; episodes
+        flagged in ``stopped`` repeat row ``t - 1``."""
+        for name, v in (("penetration", penetration), ("wall_contact", wall)):
+            a = self.arrays.get(name)
+            if a is not None:
+                a[ids, t] = v
+                if stopped is not None:
+                    a[stopped, t] = a[stopped, t - 1]
 
     def fill_from(self, t: int) -> None:
         """Rows ``t`` on repeat row ``t - 1`` (every episode stopped)."""

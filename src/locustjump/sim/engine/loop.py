@@ -11,6 +11,11 @@ One control step for every live episode::
         obs    = paper_inputs(qpos, touch)              #   (n, 9)
         record row t + 1                                #   job.Recorder
         deltas = controller(obs); ctrl += deltas        #   the next action
+    contacts of row t + 1 from sensordata               # job.contact_maxima
+
+The last line only when the job records ``penetration`` or ``wall_contact``
+(:data:`~.job.CONTACT_RECORDS`): the loop reduces the contact sensors over
+the substeps itself, so every control step records them alike.
 
 The control steps plugged in: the NumPy reference
 (:class:`~.numpy_step.NumpyStep`, a fixed number of whole-batch NumPy calls)
@@ -40,7 +45,15 @@ import mujoco
 import numpy as np
 from mujoco.batch import Batch, SimulationError
 
-from locustjump.sim.engine.job import Recorder, RolloutJob, RolloutResult, progress
+from locustjump.sim import model as lm
+from locustjump.sim.engine.job import (
+    Recorder,
+    RolloutJob,
+    RolloutResult,
+    contact_maxima,
+    progress,
+    records_contacts,
+)
 
 
 class ControlStep(Protocol):
@@ -110,6 +123,12 @@ def run_steps(batch: Batch, job: RolloutJob, make: StepMaker) -> RolloutResult:
     step = begin(batch, job, make)
     qpos = batch.bind("qpos")
     unstable, newly = step.unstable, step.newly
+    rec = step.recorder
+    idx = lm.ModelIndex.of(m) if records_contacts(job) else None
+    if idx is not None:  # the start state's contacts (forward() in begin)
+        start = np.array(batch.bind("sensordata"))[:, None]
+        rec.write_contacts(0, np.arange(n), *contact_maxima(start, idx))
+    empty = np.empty(0)
     steps = np.full(n, T)
     ids = np.arange(n)
     # sensordata after every substep (MuJoCo computes it at the substep's
@@ -132,6 +151,7 @@ def run_steps(batch: Batch, job: RolloutJob, make: StepMaker) -> RolloutResult:
         except SimulationError as e:  # those sims kept their state; the touch
             errors, out = e.ids, no_sub  # maxima stay as they were
         done += len(ids)
+        live = ids  # the simulations of this call, the rows of out
         act = t + 1 < T
         # a failed call: check only, then mark its simulations too
         failed = step(t + 1, True, out, ids, stopped, act and errors is None)
@@ -146,9 +166,14 @@ def run_steps(batch: Batch, job: RolloutJob, make: StepMaker) -> RolloutResult:
                 qpos[newly] = np.nan_to_num(qpos[newly])
                 stopped = True
                 if ids.size == 0:
-                    step.recorder.fill_from(t + 1)
+                    rec.fill_from(t + 1)
                     break
             step(t + 1, False, no_sub, ids, stopped, act)
+        if idx is not None and len(out):
+            frozen = unstable if stopped else None
+            rec.write_contacts(t + 1, live, *contact_maxima(out, idx), frozen)
+        elif idx is not None:  # a MuJoCo error: like the touch maxima, row t
+            rec.write_contacts(t + 1, live[:0], empty, empty, np.ones(n, bool))
     if bar is not None:
         bar.close()
-    return RolloutResult(step.recorder.arrays, unstable, steps, done)
+    return RolloutResult(rec.arrays, unstable, steps, done)
