@@ -23,6 +23,7 @@ from locustjump.cli.options import (
     strut_stiffness_arg,
 )
 from locustjump.cli.showing import add_showing_commands
+from locustjump.cli.study import add_study_command
 from locustjump.runs.reproduce import BUDGETS
 from locustjump.sim import model as lm
 from locustjump.tasks import behaviour_names
@@ -382,4 +383,5 @@ def build_parser() -> argparse.ArgumentParser:
     add_backend(p)
     p.set_defaults(func=cmd.cmd_replay)
     add_showing_commands(sub)
+    add_study_command(sub)
     return ap

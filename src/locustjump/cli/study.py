@@ -1,0 +1,86 @@
+"""``locustjump study FILE``: a declared grid of runs, trained, shown, tabled."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from locustjump.cli.argtypes import _seeds
+from locustjump.cli.options import add_backend
+from locustjump.runs.study import dry_run, run_study, status
+from locustjump.runs.study_table import FIGURE, study_table
+from locustjump.runs.studyfile import load_study
+from locustjump.sim.engine.backends import make_backend
+
+
+def add_study_command(sub: argparse._SubParsersAction) -> None:
+    """Add ``study`` to ``sub``."""
+    p = sub.add_parser(
+        "study",
+        help="run a study file: arms x seeds, each an ordinary run directory",
+        description=(
+            "Train every run a study file declares (named arms x seeds; "
+            "docs/studies.md says how to write one), each into its own run "
+            "directory; finished runs are kept and stopped ones continue, so a "
+            "killed study continues with the same command. --dry-run prints the "
+            "plan and its cost, --status what is done, --table scores every run "
+            "and writes the study's table (effect sizes with 95 %% intervals)."
+        ),
+    )
+    p.add_argument("file", metavar="FILE.toml", help="the study file")
+    what = p.add_mutually_exclusive_group()
+    what.add_argument(
+        "--dry-run",
+        action="store_true",
+        help="print the plan: each arm's runs done and to do, the control steps "
+        "left and the time at this machine's measured throughput; train nothing",
+    )
+    what.add_argument(
+        "--status", action="store_true", help="print each run's generations done"
+    )
+    what.add_argument(
+        "--table",
+        action="store_true",
+        help="score every run's best genome as the study's [evaluation] says and "
+        "write OUT/table.md, table.json and learning.png (runs must be finished)",
+    )
+    p.add_argument(
+        "--seeds",
+        type=_seeds,
+        metavar="SEEDS",
+        help="only these of the study's seeds (e.g. 0-2)",
+    )
+    p.add_argument(
+        "--quiet",
+        action="store_true",
+        help="no progress bars (a line per run is still printed)",
+    )
+    add_backend(p)
+    p.set_defaults(func=cmd_study)
+
+
+def cmd_study(args: argparse.Namespace) -> int:
+    seeds = None if args.seeds is None else ",".join(map(str, args.seeds))
+    study = load_study(args.file, seeds)
+    if args.status:
+        print(status(study))
+        return 0
+    backend = make_backend(
+        args.backend, threads=args.threads, address=args.address, actors=args.actors
+    )
+    if args.dry_run:
+        print(dry_run(study, backend, args.backend))
+        return 0
+    def log(line: str) -> None:
+        print(line, file=sys.stderr)
+
+    if args.table:
+        md, js = study_table(study, backend, log=log)
+        print(md.read_text(), end="")
+        print(f"wrote {md}, {js}, {study.out / FIGURE}")
+        return 0
+    final = run_study(study, backend=backend, progress=not args.quiet, log=log)
+    done = sum(st.finished for st in final)
+    print(f"study {study.name}: {done} of {len(final)} runs done under {study.root}; "
+          f"the table: locustjump study {args.file} --table")  # fmt: skip
+    return 0

@@ -1,0 +1,313 @@
+"""A study: every run of a study file (:mod:`~locustjump.runs.studyfile`)
+trained into its own run directory, resumably, and what it costs.
+
+``run_study`` trains each (arm, seed) in turn — seed by seed, every arm after
+the arms it builds on — with :func:`~locustjump.runs.trainer.train`: a run
+that is finished is kept, one that was stopped continues from its
+checkpoint, so a killed study continues with the same command. Each run is
+an ordinary run directory (``evaluate``, ``report``, ``compare`` read it);
+its result depends on its configuration only, so the same study gives
+bit-identical runs on threads or on Ray (``backend``). ``plan`` says what is
+done and what is left, with the cost in control steps and the time it would
+take at this machine's measured throughput (``--dry-run``).
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from locustjump import rundir
+from locustjump.errors import UserError
+from locustjump.rundir import FrozenGenomes
+from locustjump.rundir.config import TrainConfig
+from locustjump.runs.studyfile import Arm, Study
+from locustjump.runs.trainer import train
+from locustjump.sim import model as lm
+from locustjump.sim.engine.rollout import rollout
+from locustjump.tasks import Behaviour, behaviour_class, get_behaviour
+
+if TYPE_CHECKING:
+    from locustjump.sim.engine.backends import Backend
+
+#: control steps of the throughput probe per episode (``--dry-run``)
+PROBE_STEPS = 240
+
+
+@dataclass(frozen=True)
+class RunState:
+    """One (arm, seed) of a study: where, how far, and what it costs."""
+
+    arm: str
+    seed: int
+    path: Path
+    done: int  # generations completed
+    generations: int  # the arm's budget
+    steps_per_generation: int  # control steps of a generation (all evaluated)
+    eval_steps: int  # control steps of scoring its best genome (the evaluation)
+
+    @property
+    def finished(self) -> bool:
+        return self.done >= self.generations or (self.path / rundir.STOP).is_file()
+
+    @property
+    def status(self) -> str:
+        if self.finished:
+            return "done"
+        return f"{self.done}/{self.generations}" if self.done else "to do"
+
+    @property
+    def steps_left(self) -> int:
+        if self.finished:
+            return 0
+        return (self.generations - self.done) * self.steps_per_generation
+
+
+def behaviour_for(cfg: TrainConfig) -> Behaviour:
+    """``cfg``'s behaviour, with placeholder frozen genomes where it builds on
+    runs (enough to know its episodes, not to score it)."""
+    cls = behaviour_class(cfg.behaviour)
+    frozen = None
+    if cls.requires:
+        frozen = np.zeros((len(cls.requires), cls.frozen_num_params()))
+    return get_behaviour(cfg.behaviour, frozen, cfg.options, cfg.scene)
+
+
+def episode_steps(cfg: TrainConfig, beh: Behaviour | None = None) -> int:
+    """Control steps to score one genome: start states x terrains x episode."""
+    beh = behaviour_for(cfg) if beh is None else beh
+    return len(beh.start_states(cfg.model)) * cfg.scene.count * beh.n_steps
+
+
+def generations_done(path: Path) -> int:
+    """Generations in the run directory ``path`` (0 if there is none)."""
+    if not rundir.is_run(path) or not (path / rundir.METRICS).is_file():
+        return 0
+    return len(rundir.read_metrics(path / rundir.METRICS))
+
+
+def states(study: Study) -> list[RunState]:
+    """Every run of ``study``, in the order :func:`run_study` trains them."""
+    per_eval: dict[str, tuple[int, int]] = {}
+    out = []
+    for arm, seed in study.runs():
+        if arm.name not in per_eval:
+            cfg = arm.config(seed)
+            beh = behaviour_for(cfg)
+            terrains = len(study.evaluation.terrain_seeds or (None,))
+            score = len(beh.start_states(cfg.model)) * beh.n_steps * terrains
+            score *= len(study.evaluation.substeps) if arm.score else 0
+            per_eval[arm.name] = (cfg.population * episode_steps(cfg, beh), score)
+        gen, score = per_eval[arm.name]
+        path = arm.run_dir(seed)
+        out.append(RunState(arm.name, seed, path, generations_done(path),
+                            arm.base.generations, gen, score))  # fmt: skip
+    return out
+
+
+def check_run(study: Study, arm: Arm, seed: int) -> None:
+    """``UserError`` if the run of ``arm`` and ``seed`` exists with another
+    configuration than the study declares (every differing key named), or
+    was built on other runs than the ones the study names."""
+    path = arm.run_dir(seed)
+    if not rundir.is_run(path):
+        return
+    have = rundir.load_config(path / rundir.CONFIG)
+    want = arm.config(seed)
+    mine, theirs = want.to_dict(), have.to_dict()
+    for d in (mine, theirs):
+        d.pop("frozen_digest", None)
+        d.pop("generations")
+    diff = sorted(_differences(mine, theirs))
+    if diff:
+        raise UserError(
+            f"{path}: not the run {study.source} declares for arm {arm.name!r}, "
+            f"seed {seed}: {', '.join(diff)} differ"
+        )
+    if have.generations > want.generations:
+        raise UserError(
+            f"{path}: has {have.generations} generations, arm {arm.name!r} "
+            f"declares {want.generations}"
+        )
+    if arm.frozen:
+        frozen = frozen_genomes(study, arm, seed)
+        if frozen.digest != have.frozen_digest:
+            raise UserError(
+                f"{path}: built on other runs than arm {arm.name!r} names for seed "
+                f"{seed} (" + ", ".join(str(p) for p in frozen.sources) + ")"
+            )
+
+
+def _differences(a: dict, b: dict, prefix: str = "") -> list[str]:
+    out = []
+    for k in sorted(set(a) | set(b)):
+        x, y = a.get(k), b.get(k)
+        if isinstance(x, dict) and isinstance(y, dict):
+            out += _differences(x, y, f"{prefix}{k}.")
+        elif x != y:
+            out.append(f"{prefix}{k}")
+    return out
+
+
+def frozen_genomes(study: Study, arm: Arm, seed: int) -> FrozenGenomes:
+    """The best genomes of the runs ``arm`` builds on, for ``seed``."""
+    dirs = {}
+    for behaviour, other in arm.frozen.items():
+        path = study.arms[other].run_dir(seed)
+        if not (path / rundir.BEST).is_file():
+            raise UserError(
+                f"arm {arm.name!r}, seed {seed}: the {behaviour} run it builds on "
+                f"({path}, arm {other!r}) has no best genome yet"
+            )
+        dirs[behaviour] = path
+    cfg = arm.config(seed)
+    return FrozenGenomes.from_runs(
+        behaviour_class(cfg.behaviour).requires, dirs, cfg.model,
+        behaviour_class(cfg.behaviour).frozen_num_params(),
+    )  # fmt: skip
+
+
+def run_study(
+    study: Study,
+    *,
+    backend: Backend | None = None,
+    progress: bool = True,
+    log: Callable[[str], None] | None = None,
+) -> list[RunState]:
+    """Train every run of ``study`` that is not finished (see the module's
+    docstring); every existing run is checked first (:func:`check_run`), so
+    a wrong study file stops before anything is trained. Returns the final
+    states."""
+    log = log or (lambda s: print(s, file=sys.stderr))
+    todo = states(study)
+    for st in todo:
+        check_run(study, study.arms[st.arm], st.seed)
+    left = [st for st in todo if not st.finished]
+    total = sum(st.steps_left for st in left)
+    log(f"study {study.name}: {len(todo) - len(left)} of {len(todo)} runs done, "
+        f"{len(left)} to train ({_steps(total)} control steps)")  # fmt: skip
+    t0, spent = time.perf_counter(), 0
+    for k, st in enumerate(left, 1):
+        arm = study.arms[st.arm]
+        eta = ""
+        if spent:
+            rate = spent / (time.perf_counter() - t0)
+            eta = f", about {_duration((total - spent) / rate)} left"
+        log(f"[{k}/{len(left)}] {st.arm}, seed {st.seed} -> {st.path} "
+            f"({st.status}{eta})")  # fmt: skip
+        train(
+            arm.config(st.seed), st.path, resume=rundir.is_run(st.path),
+            backend=backend, progress=progress,
+            frozen=frozen_genomes(study, arm, st.seed) if arm.frozen else None,
+        )  # fmt: skip
+        spent += st.steps_left
+    return states(study)
+
+
+def throughput(
+    cfg: TrainConfig, backend: Backend, substeps: int | None = None
+) -> float:
+    """Control steps per second of ``cfg``'s episodes on ``backend``, measured:
+    a population of random genomes from its start states for
+    :data:`PROBE_STEPS` steps (after one untimed call that compiles)."""
+    beh = behaviour_for(cfg)
+    p = cfg.model if substeps is None else cfg.model.replace(substeps=substeps)
+    rng = np.random.default_rng(0)
+    n = min(cfg.population, 32)
+    genomes = rng.normal(0.0, 0.5, (n, beh.controller.num_params))
+    starts = beh.start_states(p)
+
+    def go(steps: int) -> float:
+        t = time.perf_counter()
+        rollout(beh.controller, genomes, starts, steps, model_params=p,
+                scene=beh.scene, backend=backend, engine=cfg.engine,
+                record=())  # fmt: skip
+        return time.perf_counter() - t
+
+    go(8)
+    return n * len(starts) * PROBE_STEPS / go(PROBE_STEPS)
+
+
+def dry_run(study: Study, backend: Backend, where: str = "threads") -> str:
+    """The plan of ``study`` as text: each arm's runs (done, partial, to do),
+    control steps left to train and to score, and the time at this machine's
+    throughput (measured per arm, :func:`throughput`)."""
+    rows = states(study)
+    lines = [
+        f"study {study.name} ({study.source}): {len(study.arms)} arms x "
+        f"{len(study.seeds)} seeds, runs under {study.root}",
+        "",
+        "| arm | behaviour | scene | generations x population | control steps a "
+        "run | runs done / partial / to do | steps left | steps/s here | time left |",
+        "| --- | --- | --- | --- | --- | --- | --- | --- | --- |",
+    ]
+    train_s = score_s = 0.0
+    for arm in study.arms.values():
+        mine = [r for r in rows if r.arm == arm.name]
+        cfg = arm.base
+        rate = throughput(cfg, backend)
+        left = sum(r.steps_left for r in mine)
+        scoring = sum(r.eval_steps for r in mine) / rate
+        train_s += left / rate
+        score_s += scoring
+        partial = sum(0 < r.done and not r.finished for r in mine)
+        done = sum(r.finished for r in mine)
+        run_steps = cfg.generations * mine[0].steps_per_generation
+        lines.append(
+            f"| {arm.name} | {cfg.behaviour} | {cfg.scene.scene.name} x "
+            f"{cfg.scene.count} | {cfg.generations} x {cfg.population} | "
+            f"{_steps(run_steps)} | {done} / {partial} / "
+            f"{len(mine) - done - partial} | {_steps(left)} | {rate:,.0f} | "
+            f"{_duration(left / rate)} |"
+        )
+    ev = study.evaluation
+    lines += [
+        "",
+        f"Training left: {_duration(train_s)}; scoring every run's best genome "
+        f"({len(ev.terrain_seeds) if ev.terrain_seeds else 'its own scene'}"
+        f"{' terrains' if ev.terrain_seeds else ''} x "
+        f"{len(ev.substeps)} physics): {_duration(score_s)} (estimates: the "
+        f"throughput of {PROBE_STEPS}-step episodes of random genomes on this "
+        f"machine, {where}; a generation evaluates the whole population).",
+    ]
+    return "\n".join(lines)
+
+
+def status(study: Study) -> str:
+    """What is done: per arm, each seed's generations done of its budget."""
+    rows = states(study)
+    seeds = study.seeds
+    lines = [
+        "| arm | " + " | ".join(f"seed {s}" for s in seeds) + " |",
+        "| --- " * (len(seeds) + 1) + "|",
+    ]
+    for arm in study.arms.values():
+        cells = {r.seed: r.status for r in rows if r.arm == arm.name}
+        row = [cells[arm.seed_of(s)] for s in seeds]
+        lines.append(f"| {arm.name} | " + " | ".join(row) + " |")
+    done = sum(r.finished for r in rows)
+    lines.append(f"\n{done} of {len(rows)} runs done")
+    return "\n".join(lines)
+
+
+def _steps(n: float) -> str:
+    return f"{n / 1e6:.1f} M" if n >= 1e6 else f"{n:,.0f}"
+
+
+def _duration(seconds: float) -> str:
+    if seconds < 90:
+        return f"{seconds:.0f} s"
+    if seconds < 90 * 60:
+        return f"{seconds / 60:.0f} min"
+    return f"{seconds / 3600:.1f} h"
+
+
+def model_at(p: lm.LocustParams, substeps: int | None) -> lm.LocustParams:
+    """``p`` at ``substeps`` physics substeps (``None``: unchanged)."""
+    return p if substeps is None else p.replace(substeps=substeps)

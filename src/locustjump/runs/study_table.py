@@ -1,0 +1,357 @@
+"""A study's table: every scored run's best genome re-scored, the arms
+compared with effect sizes and intervals, at budgets shown in both
+currencies (``locustjump study FILE --table``).
+
+Per run (one sample per arm and seed): its best genome in its behaviour's
+episode, on each held-out terrain of the study's evaluation (or its own
+scene), at each physics resolution asked for; the sample is the mean over
+terrains. Beside it, per arm: the budget each run spent in all — genome
+evaluations and control steps, the frozen runs it builds on included — the
+training fitness and the gap to the held-out score, the share of its final
+fitness gained in the last third of its generations (near 0: its learning
+curve had flattened), and, from the episodes (:mod:`locustjump.present.
+episodes`), what can reveal an exploit: the height and distance terms of
+the fitness apart, the share of steps touching a wall, the deepest
+penetration. Each pair of arms: the Hodges–Lehmann shift with its 95 %
+interval, the Mann–Whitney p, the equivalence test against the study's
+margin and the seeds 80 % power would need (:mod:`locustjump.present.stats`),
+and the verdict those numbers allow.
+
+Scores are kept in ``OUT/scores.json``, keyed by each run's configuration
+hash, best genome and the evaluation, so that a table is rescored only for
+what changed.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+from collections.abc import Sequence
+from dataclasses import asdict
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from locustjump import rundir
+from locustjump.errors import UserError
+from locustjump.present.compare import Group, convergence_figure
+from locustjump.present.episodes import score_run
+from locustjump.present.stats import compare_samples, pairs_table
+from locustjump.runs.study import check_run, states
+from locustjump.runs.studyfile import Arm, Study
+
+if TYPE_CHECKING:
+    from locustjump.sim.engine.backends import Backend
+
+SCORES = "scores.json"
+TABLE_MD = "table.md"
+TABLE_JSON = "table.json"
+FIGURE = "learning.png"
+#: arms whose budgets differ by more than this (ratio) are flagged
+BUDGET_TOLERANCE = 0.02
+#: columns of the metrics that count a run's budget, per currency
+CURRENCY_COLUMN = {"evaluations": "evaluations", "control-steps": "control_steps"}
+
+
+def late_gain(best: np.ndarray) -> float:
+    """The share of its final best fitness a run gained over its last third of
+    generations (0: its learning curve was flat by then)."""
+    if len(best) < 3 or best[-1] == 0:
+        return 0.0
+    return float((best[-1] - best[len(best) * 2 // 3 - 1]) / abs(best[-1]))
+
+
+def spent(study: Study, arm: Arm, seed: int) -> dict[str, int]:
+    """Genome evaluations and control steps (``evaluations``,
+    ``control_steps``) of the run of ``arm`` and ``seed``
+    and of every run it builds on, in the study."""
+    m = rundir.read_metrics(arm.run_dir(seed) / rundir.METRICS)
+    out = {col: int(m[col].sum()) for col in CURRENCY_COLUMN.values()}
+    for other in arm.frozen.values():
+        for c, v in spent(study, study.arms[other], seed).items():
+            out[c] += v
+    return out
+
+
+def curve(study: Study, arm: Arm, seed: int) -> tuple[np.ndarray, np.ndarray]:
+    """(spent so far in the study's currency, frozen runs first; best so far)."""
+    m = rundir.read_metrics(arm.run_dir(seed) / rundir.METRICS)
+    col = CURRENCY_COLUMN[study.currency]
+    offset = sum(spent(study, study.arms[o], seed)[col] for o in arm.frozen.values())
+    return np.cumsum(m[col]) + offset, np.maximum.accumulate(m["best"])
+
+
+def _key(path: Path, substeps: int | None, terrains) -> str:
+    cfg = rundir.load_config(path / rundir.CONFIG)
+    best = rundir.BestGenome.load(path / rundir.BEST)
+    genome = hashlib.sha256(
+        np.ascontiguousarray(best.genome, "<f8").tobytes()
+    ).hexdigest()[:16]
+    return json.dumps([str(path), cfg.hash(), genome, substeps,
+                       None if terrains is None else list(terrains)])  # fmt: skip
+
+
+def scores(
+    study: Study, backend: Backend | None = None, log=None
+) -> dict[tuple[str, int, int | None], list[dict[str, Any]]]:
+    """Per (arm, seed, substeps) of every scored run, its episodes' scores (one
+    dict per terrain), from ``OUT/scores.json`` where it holds them."""
+    cache_path = study.out / SCORES
+    cache: dict[str, Any] = {}
+    if cache_path.is_file():
+        cache = rundir.read_json(cache_path)
+    out = {}
+    todo = [(a, s) for a, s in study.runs() if a.score]
+    for k, (arm, seed) in enumerate(todo, 1):
+        path = arm.run_dir(seed)
+        for sub in study.evaluation.substeps:
+            key = _key(path, sub, study.evaluation.terrain_seeds)
+            if key not in cache:
+                if log:
+                    log(f"scoring [{k}/{len(todo)}] {arm.name}, seed {seed}"
+                        + ("" if sub is None else f", {sub} substeps"))  # fmt: skip
+                eps = score_run(path, terrain_seeds=study.evaluation.terrain_seeds,
+                                substeps=sub, backend=backend)  # fmt: skip
+                cache[key] = [asdict(e) for e in eps]
+                study.out.mkdir(parents=True, exist_ok=True)
+                rundir.write_json(cache_path, cache)
+            out[arm.name, seed, sub] = cache[key]
+    return out
+
+
+def _mean(eps: list[dict], key: str) -> float | None:
+    v = [e[key] for e in eps if e.get(key) is not None]
+    return float(np.mean(v)) if v else None
+
+
+def _max(eps: list[dict], key: str) -> float | None:
+    v = [e[key] for e in eps if e.get(key) is not None]
+    return float(np.max(v)) if v else None
+
+
+def run_rows(study: Study, sc: dict) -> list[dict[str, Any]]:
+    """One row per scored run: its budget, training fitness, late gain and,
+    per physics resolution, its score and diagnostics."""
+    rows = []
+    for arm, seed in study.runs():
+        if not arm.score:
+            continue
+        path = arm.run_dir(seed)
+        best = rundir.BestGenome.load(path / rundir.BEST)
+        m = rundir.read_metrics(path / rundir.METRICS)
+        row: dict[str, Any] = {
+            "arm": arm.name, "seed": seed, "path": str(path),
+            "generations": len(m), **spent(study, arm, seed),
+            "train_fitness": best.fitness, "late_gain": late_gain(m["best"]),
+            "at": {},
+        }  # fmt: skip
+        for sub in study.evaluation.substeps:
+            eps = sc[arm.name, seed, sub]
+            row["at"][str(sub)] = {
+                "score": _mean(eps, "fitness"),
+                "height_term": _mean(eps, "height_term"),
+                "distance_term": _mean(eps, "distance_term"),
+                "distance_m": _mean(eps, "distance_m"),
+                "jumps": _mean(eps, "jumps"),
+                "wall_contact": _max(eps, "wall_contact"),
+                "penetration_m": _max(eps, "penetration_m"),
+                "highest_m": _max(eps, "highest_m"),
+            }
+        rows.append(row)
+    return rows
+
+
+def _fmt(v: float | None, spec: str = ".4g") -> str:
+    return "-" if v is None else format(v, spec)
+
+
+def _label(sub: int | None) -> str:
+    return "as trained" if sub is None else f"{sub} substeps"
+
+
+def make_table(study: Study, rows: list[dict[str, Any]]) -> tuple[str, dict]:
+    """The study's table (Markdown) and everything in it (JSON-able)."""
+    arms = study.scored
+    by_arm = {a.name: [r for r in rows if r["arm"] == a.name] for a in arms}
+    ev = study.evaluation
+    where = (f"held-out terrains {_seeds_text(ev.terrain_seeds)}"
+             if ev.terrain_seeds else "each run's own scene")  # fmt: skip
+    out: dict[str, Any] = {"study": study.name, "currency": study.currency,
+                           "margin": study.margin, "runs": rows, "arms": {},
+                           "pairs": {}}  # fmt: skip
+    md = [
+        f"# Study {study.name}",
+        "",
+        f"{len(study.seeds)} seeds ({_seeds_text(study.seeds)}); every run's best "
+        f"genome scored on {where}; one sample per run (its mean over terrains). "
+        f"Arms equalised in **{study.currency}** (the frozen runs a composition "
+        "builds on counted in).",
+        "",
+        "## Budget per run (median over seeds)",
+        "",
+        "| arm | runs | generations | genome evaluations | control steps | "
+        "training fitness | gain in the last third |",
+        "| --- | --- | --- | --- | --- | --- | --- |",
+    ]
+    for a in arms:
+        rs = by_arm[a.name]
+        med = {k: float(np.median([r[k] for r in rs]))
+               for k in ("generations", "evaluations", "control_steps",
+                         "train_fitness", "late_gain")}  # fmt: skip
+        out["arms"][a.name] = {"label": a.label, "runs": len(rs), "budget": med}
+        md.append(
+            f"| {a.label} | {len(rs)} | {med['generations']:.0f} | "
+            f"{med['evaluations']:,.0f} | {med['control_steps'] / 1e6:.2f} M | "
+            f"{med['train_fitness']:.4g} | {med['late_gain']:.0%} |"
+        )
+    md += ["", _budget_note(study, out["arms"])]
+    for sub in ev.substeps:
+        s = str(sub)
+        md += [
+            "", f"## Scores, {_label(sub)}", "",
+            "| arm | runs | score per run | median [min, max] | height term | "
+            "distance term | gap (training - score) | wall contact (max share) | "
+            "deepest penetration (m) | highest (m) |",
+            "| --- " * 10 + "|",
+        ]  # fmt: skip
+        samples = {}
+        for a in arms:
+            rs = by_arm[a.name]
+            v = np.array([r["at"][s]["score"] for r in rs])
+            samples[a.name] = v
+            cell = {k: [r["at"][s][k] for r in rs if r["at"][s][k] is not None]
+                    for k in ("height_term", "distance_term", "wall_contact",
+                              "penetration_m", "highest_m")}  # fmt: skip
+            gap = [r["train_fitness"] - r["at"][s]["score"] for r in rs]
+            summary = {
+                "values": v.tolist(), "median": float(np.median(v)),
+                "min": float(v.min()), "max": float(v.max()),
+                "height_term": _med(cell["height_term"]),
+                "distance_term": _med(cell["distance_term"]),
+                "gap": float(np.median(gap)),
+                "wall_contact": max(cell["wall_contact"], default=None),
+                "penetration_m": max(cell["penetration_m"], default=None),
+                "highest_m": max(cell["highest_m"], default=None),
+            }  # fmt: skip
+            out["arms"][a.name][s] = summary
+            md.append(
+                f"| {a.label} | {len(v)} | {', '.join(f'{x:.4g}' for x in v)} | "
+                f"{summary['median']:.4g} [{summary['min']:.4g}, "
+                f"{summary['max']:.4g}] | {_fmt(summary['height_term'])} | "
+                f"{_fmt(summary['distance_term'])} | {summary['gap']:.4g} | "
+                f"{_fmt(summary['wall_contact'], '.1%')} | "
+                f"{_fmt(summary['penetration_m'], '.4f')} | "
+                f"{_fmt(summary['highest_m'], '.2f')} |"
+            )
+        few = [a.label for a in arms if len(samples[a.name]) < 2]
+        if few:
+            md += ["", f"No comparison: {', '.join(few)} has fewer than 2 runs."]
+        comps = [] if few else [
+            compare_samples(samples[x.name], samples[y.name],
+                            names=(x.label, y.label), margin=study.margin)
+            for x, y in pairs(study)
+        ]  # fmt: skip
+        out["pairs"][s] = [c.row() for c in comps]
+        if comps:
+            md += ["", pairs_table(comps)]
+    md += ["", _reading(study)]
+    return "\n".join(md) + "\n", out
+
+
+def _med(v: Sequence[float]) -> float | None:
+    return float(np.median(v)) if len(v) else None
+
+
+def _seeds_text(seeds: Sequence[int]) -> str:
+    s = list(seeds)
+    if s == list(range(s[0], s[-1] + 1)) and len(s) > 2:
+        return f"{s[0]}-{s[-1]}"
+    return ", ".join(map(str, s))
+
+
+def pairs(study: Study) -> list[tuple[Arm, Arm]]:
+    """The pairs compared: each arm with the reference, or every pair."""
+    arms = study.scored
+    if study.reference:
+        ref = study.arms[study.reference]
+        return [(a, ref) for a in arms if a is not ref]
+    return [(a, b) for i, a in enumerate(arms) for b in arms[i + 1 :]]
+
+
+def _budget_note(study: Study, arms: dict[str, Any]) -> str:
+    """Whether the arms spent the same in the declared currency, and the
+    ratio in the other."""
+    names = list(arms)
+    if len(names) < 2:
+        return ""
+    lines = []
+    for cur, col in (("evaluations", "evaluations"),
+                     ("control-steps", "control_steps")):  # fmt: skip
+        v = {n: arms[n]["budget"][col] for n in names}
+        lo, hi = min(v.values()), max(v.values())
+        ratio = hi / lo if lo else float("inf")
+        declared = " (the declared currency)" if cur == study.currency else ""
+        flag = ""
+        if ratio - 1 > BUDGET_TOLERANCE:
+            flag = (" — **not equal**: the arms are not compared at equal budget"
+                    if declared else " — unequal in this currency")  # fmt: skip
+        lines.append(f"In {cur}{declared}: largest / smallest arm {ratio:.2f}{flag}.")
+    return " ".join(lines)
+
+
+def _reading(study: Study) -> str:
+    margin = (f"against the declared margin ±{study.margin:g}" if study.margin
+              else "(no equivalence margin declared: 'no difference' cannot "
+              "be concluded)")  # fmt: skip
+    return (
+        "How to read it: the shift is the Hodges–Lehmann estimate of the first "
+        "arm minus the second, with its exact 95 % interval; 'better' needs the "
+        "interval to exclude 0, 'equivalent' the two one-sided tests "
+        f"{margin}; otherwise there is no evidence either way. Seeds for 80 % "
+        "power: per arm, to detect a shift of the margin at the spread observed."
+    )
+
+
+def study_table(
+    study: Study, backend: Backend | None = None, log=None, figure: bool = True
+) -> tuple[Path, Path]:
+    """Score every scored run of ``study`` (every run must be finished), write
+    ``OUT/table.md``, ``OUT/table.json`` and the learning curves
+    ``OUT/learning.png``; return the two table paths."""
+    missing = [st for st in states(study) if not st.finished]
+    if missing:
+        st = missing[0]
+        raise UserError(
+            f"study {study.name}: {len(missing)} run(s) not finished, e.g. arm "
+            f"{st.arm!r} seed {st.seed} ({st.path}: {st.status}); run "
+            f"`locustjump study {study.source}` first"
+        )
+    for arm, seed in study.runs():
+        check_run(study, arm, seed)
+    rows = run_rows(study, scores(study, backend, log))
+    md, data = make_table(study, rows)
+    study.out.mkdir(parents=True, exist_ok=True)
+    rundir.atomic_write_text(study.out / TABLE_MD, md)
+    rundir.write_json(study.out / TABLE_JSON, data)
+    if figure:
+        learning_figure(study, study.out / FIGURE)
+    return study.out / TABLE_MD, study.out / TABLE_JSON
+
+
+def learning_figure(study: Study, path: Path) -> Path:
+    """Each scored arm's best training fitness so far against what it spent
+    in the study's currency: median and interquartile band over seeds."""
+    groups = []
+    for a in study.scored:
+        curves = tuple(curve(study, a, s) for s in study.seeds)
+        groups.append(Group(
+            a.label, tuple(a.run_dir(s) for s in study.seeds),
+            np.array([c[1][-1] for c in curves]),
+            np.array([int(c[0][-1]) for c in curves]), curves,
+        ))  # fmt: skip
+    return convergence_figure(
+        groups, path,
+        title=f"{study.name}: best training fitness, median and IQR over seeds",
+        xlabel=f"{study.currency}, the frozen runs' included",
+    )  # fmt: skip

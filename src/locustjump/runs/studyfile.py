@@ -1,0 +1,359 @@
+"""A study file: a declared grid of runs — named arms x seeds — and how they
+are scored and compared (``locustjump study FILE``, :mod:`~locustjump.runs.study`).
+
+A study file is TOML::
+
+    name = "optimizers-small"     # default: the file's stem
+    root = "runs/studies/optimizers-small"  # its runs (default runs/studies/<name>)
+    out = "runs/studies/optimizers-small"   # its table (default: root)
+    seeds = "0-2"                 # or a list [0, 1, 2]: one run per arm and seed
+    currency = "evaluations"      # what the arms are equalised in: "evaluations"
+                                  # (genomes scored) or "control-steps"
+    margin = 0.5                  # equivalence margin, fitness units (optional)
+    reference = "rcga"            # the arm every other is compared with
+                                  # (default: every pair of scored arms)
+
+    [defaults]                    # config.toml keys every arm starts from
+    behaviour = "kick"
+    generations = 10
+    optimizer = { population = 10 }
+
+    [evaluation]                  # how each run's best genome is scored
+    terrain_seeds = "100-139"     # held-out terrains (a seeded scene); default:
+                                  # the run's own scene
+    substeps = [3, 12]            # physics substeps (default: as trained)
+
+    [arms.rcga]                   # an arm: config.toml keys over [defaults]
+    optimizer = { kind = "rcga" }
+
+    [arms.random]
+    optimizer = { kind = "random" }
+    label = "random search"       # how tables name it (default: the arm's name)
+
+An arm may also say ``frozen = { kick = "ARM", ... }`` (a behaviour built on
+other runs takes the same seed's runs of those arms: the paper's pipeline is
+four arms), ``score = false`` (trained for another arm, not compared),
+``path = "DIR/{seed}"`` (where its runs are, default ``ROOT/<arm>/seed-<s>``;
+``paths = { "0" = "..." }`` for single seeds), ``seed = S`` (not scored: one
+run, seed S, that every seed's runs build on) — so a study can name runs
+made before it (the shipped ones). Paths are relative to the working
+directory. Every key is checked before anything runs: a wrong one is a
+one-line :class:`~locustjump.errors.UserError` naming it.
+"""
+
+from __future__ import annotations
+
+import copy
+import os
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from locustjump import rundir
+from locustjump.errors import UserError
+from locustjump.rundir.config import TrainConfig
+from locustjump.rundir.migrations import CONFIG_FORMAT
+from locustjump.runs.multiseed import parse_seeds
+from locustjump.tasks import behaviour_class
+
+#: what a study may equalise its arms in
+CURRENCIES = ("evaluations", "control-steps")
+#: the keys of a study file's top level
+TOP_KEYS = ("name", "root", "out", "seeds", "currency", "margin", "reference",
+            "defaults", "evaluation", "arms")  # fmt: skip
+#: an arm's keys that are the study's, not config.toml's
+ARM_KEYS = ("frozen", "score", "path", "paths", "label")
+EVALUATION_KEYS = ("terrain_seeds", "substeps")
+#: most substeps a study scores at (a control step is 1/120 s)
+MAX_SUBSTEPS = 96
+
+
+@dataclass(frozen=True)
+class Arm:
+    """One arm: its configuration for seed 0 (:meth:`config` for others), the
+    arms it builds on, and where its runs are."""
+
+    name: str
+    label: str
+    base: TrainConfig
+    frozen: dict[str, str]  # behaviour it requires -> arm
+    score: bool
+    path: str  # a template with {seed}
+    paths: dict[int, str]
+    #: one run shared by every seed of the study (an arm's ``seed = S``)
+    fixed_seed: int | None = None
+
+    def seed_of(self, seed: int) -> int:
+        """The seed of this arm's run for the study's ``seed``."""
+        return seed if self.fixed_seed is None else self.fixed_seed
+
+    def config(self, seed: int) -> TrainConfig:
+        return self.base.replace(seed=self.seed_of(seed))
+
+    def run_dir(self, seed: int) -> Path:
+        s = self.seed_of(seed)
+        return Path(self.paths.get(s, self.path).format(seed=s))
+
+
+@dataclass(frozen=True)
+class Evaluation:
+    """How a run's best genome is scored: on ``terrain_seeds`` (``None``: the
+    run's own scene), at each of ``substeps`` (``None``: as trained)."""
+
+    terrain_seeds: tuple[int, ...] | None = None
+    substeps: tuple[int | None, ...] = (None,)
+
+
+@dataclass(frozen=True)
+class Study:
+    """A parsed, checked study file (:func:`load_study`)."""
+
+    name: str
+    source: Path
+    root: Path
+    out: Path
+    seeds: tuple[int, ...]
+    currency: str
+    margin: float | None
+    reference: str | None
+    evaluation: Evaluation
+    arms: dict[str, Arm]  # in an order where every arm follows those it builds on
+
+    @property
+    def scored(self) -> list[Arm]:
+        return [a for a in self.arms.values() if a.score]
+
+    def runs(self) -> list[tuple[Arm, int]]:
+        """Every (arm, seed), seed by seed, each arm after those it builds on;
+        an arm with a fixed seed once."""
+        out, seen = [], set()
+        for s in self.seeds:
+            for a in self.arms.values():
+                if (a.name, a.seed_of(s)) not in seen:
+                    seen.add((a.name, a.seed_of(s)))
+                    out.append((a, a.seed_of(s)))
+        return out
+
+
+def load_study(path: str | os.PathLike, seeds: str | None = None) -> Study:
+    """The study in TOML file ``path``, every key checked (``UserError`` naming
+    the file and the key). ``seeds`` (``"0-4"``) narrows its seeds to those."""
+    path = Path(path)
+    if path.suffix != ".toml":
+        raise UserError(f"{path}: a study file is a .toml file")
+    if not path.is_file():
+        raise UserError(f"{path}: no such study file")
+    d = rundir.read_toml(path)
+    src = str(path)
+    unknown = sorted(set(d) - set(TOP_KEYS))
+    if unknown:
+        raise UserError(
+            f"{src}: unknown key {unknown[0]!r}; a study file holds "
+            + ", ".join(TOP_KEYS)
+        )
+    name = _text(d.get("name", path.stem), "name", src)
+    root = Path(_text(d.get("root", f"runs/studies/{name}"), "root", src))
+    out = Path(_text(d.get("out", str(root)), "out", src))
+    all_seeds = _seeds(d.get("seeds"), "seeds", src)
+    if seeds is not None:
+        chosen = _seeds(seeds, "--seeds", "--seeds")
+        extra = sorted(set(chosen) - set(all_seeds))
+        if extra:
+            raise UserError(f"--seeds: seed {extra[0]} is not one of the study's")
+        all_seeds = tuple(chosen)
+    currency = d.get("currency", "evaluations")
+    if currency not in CURRENCIES:
+        raise UserError(
+            f"{src}: currency {currency!r}: choose from {', '.join(CURRENCIES)}"
+        )
+    margin = d.get("margin")
+    if margin is not None and (
+        isinstance(margin, bool)
+        or not isinstance(margin, int | float)
+        or not 0 < margin < float("inf")
+    ):
+        raise UserError(f"{src}: margin must be a positive number, got {margin!r}")
+    arms = _arms(d.get("arms"), d.get("defaults", {}), root, src)
+    reference = d.get("reference")
+    if reference is not None and (reference not in arms or not arms[reference].score):
+        raise UserError(f"{src}: reference {reference!r} is not a scored arm")
+    if sum(a.score for a in arms.values()) < 1:
+        raise UserError(f"{src}: no arm is scored (every arm says score = false)")
+    return Study(
+        name, path, root, out, all_seeds, currency,
+        None if margin is None else float(margin), reference,
+        _evaluation(d.get("evaluation", {}), src), arms,
+    )  # fmt: skip
+
+
+def _text(v: Any, key: str, src: str) -> str:
+    if not isinstance(v, str) or not v.strip():
+        raise UserError(f"{src}: {key} must be a non-empty string, got {v!r}")
+    return v
+
+
+def _seeds(v: Any, key: str, src: str) -> tuple[int, ...]:
+    if v is None:
+        raise UserError(f'{src}: {key} is missing (e.g. seeds = "0-4")')
+    if isinstance(v, list):
+        if not v or not all(isinstance(s, int) and not isinstance(s, bool)
+                            for s in v):  # fmt: skip
+            raise UserError(f"{src}: {key} must be a non-empty list of integers")
+        v = ",".join(map(str, v))
+    if not isinstance(v, str):
+        raise UserError(f'{src}: {key} must be like "0-4" or [0, 1], got {v!r}')
+    try:
+        return tuple(parse_seeds(v))
+    except ValueError as e:
+        raise UserError(f"{src}: {key} {e}") from None
+
+
+def _evaluation(d: Any, src: str) -> Evaluation:
+    if not isinstance(d, dict):
+        raise UserError(f"{src}: [evaluation] must be a table")
+    unknown = sorted(set(d) - set(EVALUATION_KEYS))
+    if unknown:
+        raise UserError(
+            f"{src}: evaluation.{unknown[0]}: unknown key; choose from "
+            + ", ".join(EVALUATION_KEYS)
+        )
+    terrains = None
+    if "terrain_seeds" in d:
+        terrains = _seeds(d["terrain_seeds"], "evaluation.terrain_seeds", src)
+    subs: tuple[int | None, ...] = (None,)
+    if "substeps" in d:
+        v = d["substeps"]
+        v = [v] if isinstance(v, int) else v
+        if (
+            not isinstance(v, list)
+            or not v
+            or not all(isinstance(s, int) and not isinstance(s, bool) for s in v)
+            or not all(1 <= s <= MAX_SUBSTEPS for s in v)
+            or len(set(v)) != len(v)
+        ):
+            raise UserError(
+                f"{src}: evaluation.substeps must be distinct integers in "
+                f"1..{MAX_SUBSTEPS}, got {d['substeps']!r}"
+            )
+        subs = tuple(v)
+    return Evaluation(terrains, subs)
+
+
+def _merged(base: dict, over: dict) -> dict:
+    """``over`` on ``base``, tables merged key by key (a scene or optimizer
+    table naming another ``kind`` than the default's replaces it whole)."""
+    out = copy.deepcopy(base)
+    for k, v in over.items():
+        if (
+            isinstance(v, dict)
+            and isinstance(out.get(k), dict)
+            and not ("kind" in v and "kind" in out[k] and v["kind"] != out[k]["kind"])
+        ):
+            out[k] = _merged(out[k], v)
+        else:
+            out[k] = copy.deepcopy(v)
+    return out
+
+
+def _arms(d: Any, defaults: Any, root: Path, src: str) -> dict[str, Arm]:
+    if not isinstance(d, dict) or not d:
+        raise UserError(f"{src}: no arms (add an [arms.NAME] table)")
+    if not isinstance(defaults, dict):
+        raise UserError(f"{src}: [defaults] must be a table")
+    for key in (*ARM_KEYS, "seed", "format"):  # an arm's own
+        if key in defaults:
+            raise UserError(f"{src}: defaults.{key}: an arm's own key, not a default")
+    arms: dict[str, Arm] = {}
+    for name, table in d.items():
+        where = f"{src} [arms.{name}]"
+        if not isinstance(table, dict):
+            raise UserError(f"{where}: must be a table")
+        if "format" in table:
+            raise UserError(f"{where}: format: an arm is today's config.toml spelling")
+        own = {k: table[k] for k in ARM_KEYS if k in table}
+        # today's spelling: an arm is never read as an older config.toml
+        merged = _merged(defaults, {k: v for k, v in table.items() if k not in own})
+        cfg = TrainConfig.from_dict({"format": CONFIG_FORMAT, **merged}, where)
+        fixed = cfg.seed if "seed" in table else None
+        if fixed is not None and own.get("score", True):
+            raise UserError(
+                f"{where}: seed: a scored arm has a run per seed of the study; "
+                "a fixed seed is for an arm others build on (score = false)"
+            )
+        arms[name] = Arm(
+            name,
+            _text(own.get("label", name), "label", where),
+            cfg,
+            _frozen(own.get("frozen", {}), cfg, where),
+            _bool(own.get("score", True), "score", where),
+            _text(own.get("path", str(root / name / "seed-{seed}")), "path", where),
+            _paths(own.get("paths", {}), where),
+            fixed,
+        )
+        try:
+            arms[name].run_dir(0)
+        except (KeyError, IndexError, ValueError):
+            raise UserError(
+                f"{where}: path {arms[name].path!r}: the only field is {{seed}}"
+            ) from None
+    for a in arms.values():
+        for b in a.frozen.values():
+            if b not in arms:
+                raise UserError(
+                    f"{src} [arms.{a.name}]: frozen: no arm {b!r} in this study"
+                )
+    return _ordered(arms, src)
+
+
+def _bool(v: Any, key: str, where: str) -> bool:
+    if not isinstance(v, bool):
+        raise UserError(f"{where}: {key} must be true or false, got {v!r}")
+    return v
+
+
+def _paths(v: Any, where: str) -> dict[int, str]:
+    if not isinstance(v, dict):
+        raise UserError(f'{where}: paths must be a table of seed = "DIR"')
+    out = {}
+    for k, p in v.items():
+        if not k.isdigit():
+            raise UserError(f"{where}: paths: {k!r} is not a seed")
+        out[int(k)] = _text(p, f"paths.{k}", where)
+    return out
+
+
+def _frozen(v: Any, cfg: TrainConfig, where: str) -> dict[str, str]:
+    """The arm each behaviour ``cfg`` builds on comes from."""
+    required = behaviour_class(cfg.behaviour).requires
+    if not isinstance(v, dict) or not all(isinstance(x, str) for x in v.values()):
+        raise UserError(f'{where}: frozen must be a table of behaviour = "ARM"')
+    if set(v) != set(required):
+        if not required:
+            raise UserError(f"{where}: frozen: {cfg.behaviour} builds on no runs")
+        raise UserError(
+            f"{where}: frozen must name the arm of each of "
+            + ", ".join(required)
+            + (f" (got {', '.join(sorted(v))})" if v else "")
+        )
+    return {r: v[r] for r in required}
+
+
+def _ordered(arms: dict[str, Arm], src: str) -> dict[str, Arm]:
+    """The arms in file order, each moved after the arms it builds on."""
+    done: dict[str, Arm] = {}
+
+    def visit(name: str, path: tuple[str, ...]) -> None:
+        if name in done:
+            return
+        if name in path:
+            raise UserError(
+                f"{src}: the arms build on each other in a circle: "
+                + " -> ".join((*path, name))
+            )
+        for dep in arms[name].frozen.values():
+            visit(dep, (*path, name))
+        done[name] = arms[name]
+
+    for name in arms:
+        visit(name, ())
+    return done

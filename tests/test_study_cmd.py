@@ -1,0 +1,200 @@
+"""`locustjump study FILE`: a declared grid of runs, trained resumably, its
+plan, its status, its table; bad study files refused before anything runs."""
+
+import json
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+from helpers import assert_same_run, run_cli
+
+from locustjump import rundir
+from locustjump.runs.study import check_run
+from locustjump.runs.study_table import TABLE_JSON, TABLE_MD
+from locustjump.runs.studyfile import load_study
+from locustjump.runs.trainer import train
+
+REPO = Path(__file__).resolve().parents[1]
+EXAMPLE = REPO / "studies" / "example.toml"
+SHIPPED = sorted(p for p in (REPO / "studies").glob("*.toml") if p != EXAMPLE)
+
+
+def example(tmp_path: Path, **changes: str) -> Path:
+    """The example study with its runs and table under ``tmp_path``."""
+    text = EXAMPLE.read_text().replace(
+        'root = "runs/studies/example"', f'root = "{tmp_path / "runs"}"'
+    )
+    for old, new in changes.items():
+        assert old in text
+        text = text.replace(old, new)
+    path = tmp_path / "example.toml"
+    path.write_text(text)
+    return path
+
+
+@pytest.fixture(scope="module")
+def finished(tmp_path_factory):
+    """The example study, trained and tabled once."""
+    tmp = tmp_path_factory.mktemp("study")
+    path = example(tmp)
+    r = run_cli("study", str(path), "--quiet", "--threads", "2")
+    assert r.returncode == 0, r.stderr
+    t = run_cli("study", str(path), "--table", "--quiet")
+    assert t.returncode == 0, t.stderr
+    return path, r, t
+
+
+def test_dry_run_prints_the_plan_and_its_cost_and_writes_nothing(tmp_path):
+    path = example(tmp_path)
+    r = run_cli("study", str(path), "--dry-run", "--threads", "1")
+    assert r.returncode == 0, r.stderr
+    assert "| rcga | kick | flat x 1 | 4 x 8 |" in r.stdout
+    assert "0 / 0 / 5" in r.stdout  # done / partial / to do
+    assert "Training left:" in r.stdout and "steps/s here" in r.stdout
+    assert not (tmp_path / "runs").exists()
+
+
+def test_each_run_is_the_run_train_makes(finished, tmp_path):
+    path, r, _ = finished
+    study = load_study(path)
+    assert "10 of 10 runs done" in r.stdout
+    arm = study.arms["random"]
+    alone = tmp_path / "alone"
+    train(arm.config(1), alone, progress=False)
+    assert_same_run(arm.run_dir(1), alone)
+    assert rundir.load_config(arm.run_dir(1) / rundir.CONFIG) == arm.config(1)
+
+
+def test_status_after_the_runs(finished):
+    path, _, _ = finished
+    r = run_cli("study", str(path), "--status")
+    assert r.returncode == 0
+    assert "| rcga | done | done | done | done | done |" in r.stdout
+    assert "10 of 10 runs done" in r.stdout
+
+
+def test_a_killed_study_continues_with_the_same_command(finished, tmp_path):
+    """A run stopped after one generation (as a kill leaves it) continues from
+    its checkpoint; the finished runs are kept as they are."""
+    path, _, _ = finished
+    mine = example(tmp_path, **{'seeds = "0-4"': 'seeds = "0-1"'})
+    study = load_study(mine)
+    arm = study.arms["rcga"]
+    train(arm.config(0), arm.run_dir(0), progress=False, stop_after=1)
+    done = study.arms["random"].run_dir(0)
+    train(study.arms["random"].config(0), done, progress=False)
+    before = (done / rundir.METRICS).read_bytes()
+    r = run_cli("study", str(mine), "--quiet")
+    assert r.returncode == 0, r.stderr
+    assert "1 of 4 runs done, 3 to train" in r.stderr
+    assert (done / rundir.METRICS).read_bytes() == before
+    assert_same_run(arm.run_dir(0), load_study(path).arms["rcga"].run_dir(0))
+
+
+def test_the_table(finished):
+    path, _, t = finished
+    study = load_study(path)
+    data = json.loads((study.out / TABLE_JSON).read_text())
+    assert (study.out / TABLE_MD).read_text() in t.stdout
+    # as trained, a run's score is its best genome's training fitness
+    for row in data["runs"]:
+        best = rundir.BestGenome.load(Path(row["path"]) / rundir.BEST)
+        assert row["at"]["None"]["score"] == pytest.approx(best.fitness, rel=1e-12)
+        m = rundir.read_metrics(Path(row["path"]) / rundir.METRICS)
+        assert row["evaluations"] == m["evaluations"].sum()
+        assert row["control_steps"] == m["control_steps"].sum()
+    (pair,) = data["pairs"]["None"]
+    rcga = [r["at"]["None"]["score"] for r in data["runs"] if r["arm"] == "rcga"]
+    rand = [r["at"]["None"]["score"] for r in data["runs"] if r["arm"] == "random"]
+    shift = np.median(np.subtract.outer(rand, rcga))
+    assert pair["shift"] == pytest.approx(shift)
+    assert pair["low"] <= pair["shift"] <= pair["high"]
+    assert pair["margin"] == 0.1 and pair["verdict"]
+    # the RCGA keeps its 2 elites unevaluated: 8 + 3 x 6 genomes against 4 x 8
+    assert "**not equal**" in t.stdout
+    assert (study.out / "learning.png").stat().st_size > 1000
+
+
+@pytest.mark.parametrize(
+    "change, message",
+    [
+        (("[arms.random]", "[arms.random]\npopulaton = 3"), "unknown key 'populaton'"),
+        (('optimizer = { kind = "random" }', 'frozen = { kick = "rcga" }'),
+         "kick builds on no runs"),
+        (('seeds = "0-4"', "seeds = []"), "seeds must be a non-empty list"),
+        (('currency = "evaluations"', 'currency = "dollars"'), "currency 'dollars'"),
+        (('reference = "rcga"', 'reference = "cma"'), "reference 'cma'"),
+        (("margin = 0.1 ", "margin = -1 "), "margin must be a positive number"),
+        (("[defaults]", "wat = 1\n[defaults]"), "unknown key 'wat'"),
+        (('label = "random search"', 'label = "random search"\nseed = 3'),
+         "a fixed seed is for an arm others build on"),
+    ],
+)  # fmt: skip
+def test_a_wrong_study_file_is_one_line_and_starts_nothing(tmp_path, change, message):
+    path = example(tmp_path, **{change[0]: change[1]})
+    for how in ((), ("--dry-run",), ("--table",), ("--status",)):
+        r = run_cli("study", str(path), *how)
+        assert r.returncode == 2, r.stderr
+        assert message in r.stderr and len(r.stderr.strip().splitlines()) == 1
+    assert not (tmp_path / "runs").exists()
+
+
+def test_frozen_arms_must_exist_and_not_build_in_a_circle(tmp_path):
+    base = (
+        'seeds = "0"\n[defaults]\noptimizer = { population = 4 }\n'
+        "[arms.c]\nbehaviour = \"composed\"\n"
+    )
+    path = tmp_path / "s.toml"
+    path.write_text(base + 'frozen = { kick = "k", getup = "g", return-legs = "r" }\n')
+    r = run_cli("study", str(path))
+    assert r.returncode == 2 and "frozen: no arm 'k'" in r.stderr
+    path.write_text(base + 'frozen = { kick = "c", getup = "c", return-legs = "c" }\n')
+    r = run_cli("study", str(path), "--dry-run")
+    assert r.returncode == 2 and "in a circle: c -> c" in r.stderr
+
+
+def test_a_run_that_is_not_the_declared_one_is_named(finished, tmp_path):
+    path, _, _ = finished
+    study = load_study(path)
+    other = example(tmp_path, **{"generations = 4": "generations = 4\nengine = \"numpy\""})
+    text = other.read_text().replace(str(tmp_path / "runs"), str(study.root))
+    other.write_text(text)
+    r = run_cli("study", str(other), "--quiet")
+    assert r.returncode == 2
+    assert "not the run" in r.stderr and "engine differ" in r.stderr
+
+
+def test_a_missing_or_unfinished_run_stops_the_table(tmp_path):
+    r = run_cli("study", str(example(tmp_path)), "--table")
+    assert r.returncode == 2 and "not finished" in r.stderr
+    assert not (tmp_path / "runs").exists()
+
+
+@pytest.mark.parametrize("path", SHIPPED, ids=lambda p: p.stem)
+def test_the_shipped_study_files_name_the_shipped_runs(path, monkeypatch):
+    """Every run a shipped study file declares is there, finished, with the
+    configuration the file declares and built on the runs it names."""
+    monkeypatch.chdir(REPO)
+    study = load_study(path.relative_to(REPO))
+    for arm, seed in study.runs():
+        assert (arm.run_dir(seed) / rundir.BEST).is_file(), arm.run_dir(seed)
+        check_run(study, arm, seed)
+
+
+def test_the_example_can_be_copied_elsewhere(tmp_path):
+    """Paths are the working directory's: the study's files go under root."""
+    shutil.copy(EXAMPLE, tmp_path / "e.toml")
+    study = load_study(tmp_path / "e.toml")
+    assert study.root == Path("runs/studies/example") and study.out == study.root
+
+
+def test_on_ray_the_runs_are_the_same_bit_for_bit(finished, local_ray, tmp_path):
+    path, _, _ = finished
+    mine = example(tmp_path, **{'seeds = "0-4"': 'seeds = "2"'})
+    r = run_cli("study", str(mine), "--quiet", "--backend", "ray", "--actors", "2")
+    assert r.returncode == 0, r.stderr
+    for arm in ("rcga", "random"):
+        assert_same_run(
+            load_study(mine).arms[arm].run_dir(2), load_study(path).arms[arm].run_dir(2)
+        )
