@@ -16,10 +16,10 @@ control steps/s and the ratio engine / physics-only. The last line reads
     python benchmarks/paper_budget.py [--threads 2] [--simple-from results/quick-seed0]
     python benchmarks/paper_budget.py --scene debris --terrains 2
 
-``--scene debris --terrains K``: the stages train on K debris terrains (as
-``scripts/debris_study.sh``: K = 2), so a generation simulates K times the
-episodes among the boxes; the physics-only replay is of every terrain's
-episodes, each in its own scene.
+``--scene debris --terrains K``: the stages train on K debris terrains (the
+debris study's ``studies/debris-composition-5seeds.toml``: K = 2), so a
+generation simulates K times the episodes among the boxes; the physics-only
+replay is of every terrain's episodes, each in its own scene.
 """
 
 from __future__ import annotations

@@ -7,8 +7,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from helpers import assert_same_run, run_cli
 
+from helpers import assert_same_run, run_cli
 from locustjump import rundir
 from locustjump.runs.study import check_run
 from locustjump.runs.study_table import TABLE_JSON, TABLE_MD
@@ -157,7 +157,8 @@ def test_frozen_arms_must_exist_and_not_build_in_a_circle(tmp_path):
 def test_a_run_that_is_not_the_declared_one_is_named(finished, tmp_path):
     path, _, _ = finished
     study = load_study(path)
-    other = example(tmp_path, **{"generations = 4": "generations = 4\nengine = \"numpy\""})
+    numpy = {"generations = 4": 'generations = 4\nengine = "numpy"'}
+    other = example(tmp_path, **numpy)
     text = other.read_text().replace(str(tmp_path / "runs"), str(study.root))
     other.write_text(text)
     r = run_cli("study", str(other), "--quiet")

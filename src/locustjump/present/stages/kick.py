@@ -23,7 +23,7 @@ KICK_RATIO_OK = 1.8
 KICK_WHY = (
     "no controller found rises more than 1.27x as high as the rule's first "
     "jump (1.24x at 12 substeps) — CMA-ES and the RCGA maximising the apex "
-    "itself, with the network or open-loop (`scripts/study.sh ceiling`, "
+    "itself, with the network or open-loop (studies/kick-ceiling.toml, "
     "docs/science.md): our rule already reaches 79 % of the creature's "
     "ceiling, so 2x is not physically possible against it; a rule kicking at "
     "6 deg/step or slower would make it true"
