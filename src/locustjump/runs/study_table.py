@@ -45,6 +45,9 @@ if TYPE_CHECKING:
     from locustjump.sim.engine.backends import Backend
 
 SCORES = "scores.json"
+#: part of every score's key: raise it when what an episode's score holds,
+#: or how it is computed, changes (the cached scores are then recomputed)
+SCORES_VERSION = 1
 TABLE_MD = "table.md"
 TABLE_JSON = "table.json"
 FIGURE = "learning.png"
@@ -88,7 +91,7 @@ def _key(path: Path, substeps: int | None, terrains) -> str:
     genome = hashlib.sha256(
         np.ascontiguousarray(best.genome, "<f8").tobytes()
     ).hexdigest()[:16]
-    return json.dumps([str(path), cfg.hash(), genome, substeps,
+    return json.dumps([SCORES_VERSION, str(path), cfg.hash(), genome, substeps,
                        None if terrains is None else list(terrains)])  # fmt: skip
 
 
