@@ -130,3 +130,24 @@ def test_the_deepest_contact_is_found_again_by_its_replay(debris_run):
     assert c.geoms[0] and c.geoms[1] and c.normal_force > 0
     assert c.speed >= abs(c.approach_speed)
     assert 0 < c.step <= 3000 and 0 <= c.substep < 3
+
+
+def test_the_contact_audit_script_reports_score_run(debris_run, tmp_path, capsys):
+    """scripts/contact_audit.py: its row is score_run's numbers, its deepest
+    contact deepest_contact's."""
+    import importlib.util
+    import json
+
+    path = rundir.SHIPPED.parent / "scripts" / "contact_audit.py"
+    spec = importlib.util.spec_from_file_location("contact_audit", path)
+    script = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(script)
+    out = tmp_path / "a.json"
+    argv = [str(debris_run), "--terrain-seeds", "100", "--json", str(out)]
+    assert script.main(argv) == 0
+    (row,) = json.loads(out.read_text())
+    (s,) = score_run(debris_run, terrain_seeds=[100])
+    assert row["terrains"] == [json.loads(json.dumps(s.to_dict()))]
+    assert row["deepest"]["depth_m"] == s.penetration_m
+    assert row["terrains_over_gate"] == int(s.penetration_m > 0.05 * BL)
+    assert "| " + str(debris_run) in capsys.readouterr().out

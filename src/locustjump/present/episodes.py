@@ -57,7 +57,10 @@ class EpisodeScore:
     the terms are their mean (as the behaviour scores), ``distance_m`` their
     mean, ``jumps`` their sum, ``wall_contact`` the share over all their
     control steps and the maxima over all of them. An episode that went
-    unstable counts up to its last simulated step.
+    unstable counts up to its last simulated step. A run with the option
+    ``score_substeps`` is scored as it trained, the minimum over those
+    resolutions, while the terms and the other figures are of the episode
+    simulated at ``substeps``: only there may the terms not add up to it.
     """
 
     #: debris terrain seed; None on a scene without terrains (the flat floor)
