@@ -143,7 +143,7 @@ def test_a_wrong_study_file_is_one_line_and_starts_nothing(tmp_path, change, mes
 def test_frozen_arms_must_exist_and_not_build_in_a_circle(tmp_path):
     base = (
         'seeds = "0"\n[defaults]\noptimizer = { population = 4 }\n'
-        "[arms.c]\nbehaviour = \"composed\"\n"
+        '[arms.c]\nbehaviour = "composed"\n'
     )
     path = tmp_path / "s.toml"
     path.write_text(base + 'frozen = { kick = "k", getup = "g", return-legs = "r" }\n')
@@ -199,3 +199,54 @@ def test_on_ray_the_runs_are_the_same_bit_for_bit(finished, local_ray, tmp_path)
         assert_same_run(
             load_study(mine).arms[arm].run_dir(2), load_study(path).arms[arm].run_dir(2)
         )
+
+
+TABLED = sorted(
+    p for p in SHIPPED if (REPO / "results" / "studies" / p.stem / TABLE_MD).is_file()
+)
+
+
+@pytest.mark.parametrize("path", TABLED, ids=lambda p: p.stem)
+def test_the_shipped_tables_are_made_from_the_shipped_scores(path, monkeypatch):
+    """`study FILE --table` on the shipped runs gives the shipped table: every
+    score is in results/studies/NAME/scores.json (nothing is re-simulated)."""
+    import locustjump.runs.study_table as st
+
+    monkeypatch.chdir(REPO)
+    study = load_study(path.relative_to(REPO))
+
+    def no_simulation(*args, **kwargs):
+        raise AssertionError(f"{path.stem}: a score is missing from the cache")
+
+    monkeypatch.setattr(st, "score_run", no_simulation)
+    md, data = st.make_table(study, st.run_rows(study, st.scores(study)))
+    assert md == (study.out / TABLE_MD).read_text()
+    assert json.loads(json.dumps(data)) == json.loads(
+        (study.out / TABLE_JSON).read_text()
+    )
+
+
+@pytest.mark.parametrize(
+    "name, arm, seed, terrain",
+    [
+        ("optimizers-kick", "cma", 3, None),
+        ("debris-composition-5seeds", "pipeline", 1, 0),
+    ],
+)
+def test_the_shipped_scores_are_what_the_runs_score(
+    name, arm, seed, terrain, monkeypatch
+):
+    """A cached score re-simulated (one run, one terrain, as trained)."""
+    from locustjump.present.episodes import score_run
+    from locustjump.runs.study_table import SCORES, _key
+
+    monkeypatch.chdir(REPO)
+    study = load_study(Path("studies") / f"{name}.toml")
+    sub = study.evaluation.substeps[0]
+    path = study.arms[arm].run_dir(seed)
+    cache = json.loads((study.out / SCORES).read_text())
+    cached = cache[_key(path, sub, study.evaluation.terrain_seeds)]
+    seeds = study.evaluation.terrain_seeds
+    (fresh,) = score_run(path, terrain_seeds=None if seeds is None else seeds[:1],
+                         substeps=sub)  # fmt: skip
+    assert fresh.to_dict() == cached[0 if terrain is None else terrain]

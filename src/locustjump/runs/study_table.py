@@ -250,16 +250,31 @@ def make_table(study: Study, rows: list[dict[str, Any]]) -> tuple[str, dict]:
         few = [a.label for a in arms if len(samples[a.name]) < 2]
         if few:
             md += ["", f"No comparison: {', '.join(few)} has fewer than 2 runs."]
-        comps = [] if few else [
-            compare_samples(samples[x.name], samples[y.name],
-                            names=(x.label, y.label), margin=study.margin)
-            for x, y in pairs(study)
-        ]  # fmt: skip
+        comps = [] if few else _compared(study, samples)
         out["pairs"][s] = [c.row() for c in comps]
         if comps:
             md += ["", pairs_table(comps)]
+        height = {a.name: [r["at"][s]["height_term"] for r in by_arm[a.name]]
+                  for a in arms}  # fmt: skip
+        added = any(r["at"][s]["distance_term"] for r in rows)
+        if comps and added and all(None not in v for v in height.values()):
+            # the fitness without the distance term we added: the paper's Eq. 4
+            hc = _compared(study, {k: np.array(v) for k, v in height.items()})
+            out.setdefault("pairs_height_term", {})[s] = [c.row() for c in hc]
+            md += ["", "On the height term alone (Eq. 4 above the ground, "
+                   "without the distance term; the margin as above):", "",
+                   pairs_table(hc)]  # fmt: skip
     md += ["", _reading(study)]
     return "\n".join(md) + "\n", out
+
+
+def _compared(study: Study, samples: dict[str, np.ndarray]) -> list:
+    """The study's pairs (:func:`pairs`) compared on ``samples`` (per arm)."""
+    return [
+        compare_samples(samples[x.name], samples[y.name],
+                        names=(x.label, y.label), margin=study.margin)
+        for x, y in pairs(study)
+    ]  # fmt: skip
 
 
 def _med(v: Sequence[float]) -> float | None:
