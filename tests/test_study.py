@@ -96,15 +96,26 @@ def test_debris_table_scores_shipped_runs_on_held_out_terrains(tmp_path, capsys)
 
 
 def test_science_md_debris_table_is_the_shipped_study():
-    """docs/science.md's held-out table per arm (as trained, 12 substeps) is
-    `scripts/debris_study.sh table`'s output, results/debris/long-study*.json,
-    rounded: the doc cannot drift from the runs it cites."""
+    """docs/science.md's debris table per arm (held out, as trained and at 12
+    substeps) and its pairs (Hodges-Lehmann shifts with their intervals) are
+    `locustjump study studies/debris-composition-5seeds.toml --table`'s,
+    results/studies/debris-composition-5seeds/table.json, rounded: the doc
+    cannot drift from the runs it cites."""
     import json
 
     doc = (RESULTS.parent / "docs" / "science.md").read_text()
-    study = {sub: json.loads((RESULTS / "debris" / f"long-study{sub}.json").read_text())
-             for sub in ("", "-sub12")}  # fmt: skip
-    for group, trained in study[""]["held_out"].items():
-        fine = study["-sub12"]["held_out"][group]
-        cells = [", ".join(f"{v:.0f}" for v in vs) for vs in (trained, fine)]
-        assert f"| {group} | {cells[0]} | {cells[1]} |" in doc, group
+    path = RESULTS / "studies" / "debris-composition-5seeds" / "table.json"
+    table = json.loads(path.read_text())
+
+    def cell(x):
+        return f"{x['median']:.0f} [{x['min']:.0f}, {x['max']:.0f}]"
+
+    for arm in table["arms"].values():
+        row = f"| {arm['label']} | 5 | "
+        assert row in doc, arm["label"]
+        line = doc[doc.index(row) :].splitlines()[0]
+        assert f"| {cell(arm['3'])} | {cell(arm['12'])} |" in line, line
+    for sub, pairs in table["pairs"].items():
+        for c in pairs:
+            text = f"{c['shift']:.0f} [{c['low']:.0f}, {c['high']:.0f}]"
+            assert text.replace("-", "−") in doc, (sub, text)
