@@ -20,6 +20,7 @@ from locustjump.tasks.base import Behaviour
 from locustjump.tasks.ceiling import CEILING
 from locustjump.tasks.composed import SIMPLE, Composed
 from locustjump.tasks.getup import GetUp
+from locustjump.tasks.height_only import HEIGHT_ONLY
 from locustjump.tasks.kick import Kick
 from locustjump.tasks.monolithic import Monolithic
 from locustjump.tasks.return_legs import ReturnLegs
@@ -43,6 +44,9 @@ for _cls in (Kick, GetUp, ReturnLegs, Composed, Monolithic):
 BEHAVIOURS: tuple[str, ...] = tuple(_REGISTRY)
 #: Beyond the paper: the kick's ceiling (apex fitness, open-loop controller).
 for _cls in CEILING:
+    register_behaviour(_cls)
+#: Beyond the paper: successive jumping by Eq. 4 alone on terrains too.
+for _cls in HEIGHT_ONLY:
     register_behaviour(_cls)
 
 #: The three simple behaviours the composed one switches between.
