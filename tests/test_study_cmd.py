@@ -250,3 +250,45 @@ def test_the_shipped_scores_are_what_the_runs_score(
     (fresh,) = score_run(path, terrain_seeds=None if seeds is None else seeds[:1],
                          substeps=sub)  # fmt: skip
     assert fresh.to_dict() == cached[0 if terrain is None else terrain]
+
+
+DEBRIS = """seeds = "0-2"
+[defaults]
+behaviour = "kick"
+generations = 1
+optimizer = { population = 4 }
+scene = { kind = "debris", seed = 1000, terrains = 3 }
+[evaluation]
+terrain_seeds = "100-101"
+[arms.a]
+terrain_stride = 3
+"""
+
+
+def test_each_seed_trains_on_its_own_terrains(tmp_path):
+    path = tmp_path / "s.toml"
+    path.write_text(DEBRIS)
+    study = load_study(path)
+    firsts = [study.arms["a"].config(s).scene.scene.seed for s in study.seeds]
+    assert firsts == [1000, 1003, 1006]
+    assert study.arms["a"].config(2).scene.count == 3
+
+
+@pytest.mark.parametrize(
+    "change, message",
+    [
+        (("terrain_stride = 3", "terrain_stride = 2"), "would overlap"),
+        (("terrain_stride = 3", "terrain_stride = -1"), "integer >= 0"),
+        (('"100-101"', '"1003-1004"'), "evaluation terrain 1003 is a training"),
+        (("seed = 1000, ", ""), "evaluation terrain 100"),
+    ],
+)
+def test_training_terrains_are_checked(tmp_path, change, message):
+    path = tmp_path / "s.toml"
+    text = DEBRIS.replace(*change)
+    if "seed = 1000" not in text:  # terrains from 0 + 3 s: seed 2 has 6-8
+        text = text.replace('"100-101"', '"7-8"')
+        message = "evaluation terrain 7 is a training terrain of arm 'a', seed 2"
+    path.write_text(text)
+    r = run_cli("study", str(path), "--status")
+    assert r.returncode == 2 and message in r.stderr, r.stderr

@@ -34,7 +34,9 @@ An arm may also say ``frozen = { kick = "ARM", ... }`` (a behaviour built on
 other runs takes the same seed's runs of those arms: the paper's pipeline is
 four arms), ``score = false`` (trained for another arm, not compared),
 ``path = "DIR/{seed}"`` (where its runs are, default ``ROOT/<arm>/seed-<s>``;
-``paths = { "0" = "..." }`` for single seeds), ``seed = S`` (not scored: one
+``paths = { "0" = "..." }`` for single seeds), ``terrain_stride = K`` (each
+seed its own training terrains: seed s from the scene's seed + K x s),
+``seed = S`` (not scored: one
 run, seed S, that every seed's runs build on) — so a study can name runs
 made before it (the shipped ones). Paths are relative to the working
 directory. Every key is checked before anything runs: a wrong one is a
@@ -44,6 +46,7 @@ one-line :class:`~locustjump.errors.UserError` naming it.
 from __future__ import annotations
 
 import copy
+import dataclasses
 import os
 from dataclasses import dataclass
 from pathlib import Path
@@ -62,7 +65,7 @@ CURRENCIES = ("evaluations", "control-steps")
 TOP_KEYS = ("name", "root", "out", "seeds", "currency", "margin", "reference",
             "defaults", "evaluation", "arms")  # fmt: skip
 #: an arm's keys that are the study's, not config.toml's
-ARM_KEYS = ("frozen", "score", "path", "paths", "label")
+ARM_KEYS = ("frozen", "score", "path", "paths", "label", "terrain_stride")
 EVALUATION_KEYS = ("terrain_seeds", "substeps")
 #: most substeps a study scores at (a control step is 1/120 s)
 MAX_SUBSTEPS = 96
@@ -82,13 +85,22 @@ class Arm:
     paths: dict[int, str]
     #: one run shared by every seed of the study (an arm's ``seed = S``)
     fixed_seed: int | None = None
+    #: each seed trains on its own terrains: seed s's first is the scene's
+    #: seed + terrain_stride x s (0: every seed on the scene's terrains)
+    terrain_stride: int = 0
 
     def seed_of(self, seed: int) -> int:
         """The seed of this arm's run for the study's ``seed``."""
         return seed if self.fixed_seed is None else self.fixed_seed
 
     def config(self, seed: int) -> TrainConfig:
-        return self.base.replace(seed=self.seed_of(seed))
+        s = self.seed_of(seed)
+        cfg = self.base.replace(seed=s)
+        if self.terrain_stride:
+            t = cfg.scene
+            first = t.scene.with_seed(t.scene.seed + self.terrain_stride * s)
+            cfg = cfg.replace(scene=dataclasses.replace(t, scene=first))
+        return cfg
 
     def run_dir(self, seed: int) -> Path:
         s = self.seed_of(seed)
@@ -179,11 +191,30 @@ def load_study(path: str | os.PathLike, seeds: str | None = None) -> Study:
         raise UserError(f"{src}: reference {reference!r} is not a scored arm")
     if sum(a.score for a in arms.values()) < 1:
         raise UserError(f"{src}: no arm is scored (every arm says score = false)")
+    evaluation = _evaluation(d.get("evaluation", {}), src)
+    _held_out(arms, all_seeds, evaluation, src)
     return Study(
         name, path, root, out, all_seeds, currency,
-        None if margin is None else float(margin), reference,
-        _evaluation(d.get("evaluation", {}), src), arms,
+        None if margin is None else float(margin), reference, evaluation, arms,
     )  # fmt: skip
+
+
+def _held_out(
+    arms: dict[str, Arm], seeds: tuple[int, ...], ev: Evaluation, src: str
+) -> None:
+    """``UserError`` if an evaluation terrain is one some run trains on."""
+    if ev.terrain_seeds is None:
+        return
+    held = set(ev.terrain_seeds)
+    for arm in arms.values():
+        for s in seeds:
+            t = arm.config(s).scene
+            seen = held & {getattr(x, "seed", None) for x in t.scenes}
+            if seen and not t.scene.is_flat:
+                raise UserError(
+                    f"{src}: evaluation terrain {min(seen)} is a training terrain "
+                    f"of arm {arm.name!r}, seed {s}: held-out terrains must be unseen"
+                )
 
 
 def _text(v: Any, key: str, src: str) -> str:
@@ -289,6 +320,7 @@ def _arms(d: Any, defaults: Any, root: Path, src: str) -> dict[str, Arm]:
             _text(own.get("path", str(root / name / "seed-{seed}")), "path", where),
             _paths(own.get("paths", {}), where),
             fixed,
+            _stride(own.get("terrain_stride", 0), cfg, where),
         )
         try:
             arms[name].run_dir(0)
@@ -303,6 +335,23 @@ def _arms(d: Any, defaults: Any, root: Path, src: str) -> dict[str, Arm]:
                     f"{src} [arms.{a.name}]: frozen: no arm {b!r} in this study"
                 )
     return _ordered(arms, src)
+
+
+def _stride(v: Any, cfg: TrainConfig, where: str) -> int:
+    if isinstance(v, bool) or not isinstance(v, int) or not 0 <= v < 2**31:
+        raise UserError(f"{where}: terrain_stride must be an integer >= 0, got {v!r}")
+    scene = cfg.scene.scene
+    if v and scene.with_seed(scene.seed + 1) == scene:
+        raise UserError(
+            f"{where}: terrain_stride: the {scene.name} scene has no terrains to "
+            "choose from"
+        )
+    if v and v < cfg.scene.count:
+        raise UserError(
+            f"{where}: terrain_stride {v} < terrains {cfg.scene.count}: the seeds' "
+            "training terrains would overlap"
+        )
+    return v
 
 
 def _bool(v: Any, key: str, where: str) -> bool:
