@@ -77,10 +77,13 @@ class EpisodeScore:
     distance_m: float  #: forward progress of the body centre (m)
     jumps: int  #: jumps (``sim.analysis.find_jumps``)
     #: share of control steps with any contact between the creature and a wall
-    #: (0 on scenes without walls)
+    #: (0 on scenes without walls); a contact inside a wall's margin
+    #: (``Debris.wall_margin``: the wall already pushes, the limb has not
+    #: reached its face) counts as touching it
     wall_contact: float
     #: deepest penetration (m) of any contact of the creature (rubble, floor,
-    #: walls), the maximum over the episode and its physics substeps
+    #: walls: into a wall's face, not its margin), the maximum over the
+    #: episode and its physics substeps
     penetration_m: float
     #: the body centre's highest point above the ground under it (m)
     highest_m: float
@@ -202,7 +205,9 @@ class DeepestContact:
     episode: int  #: the start state's index
     step: int  #: control step (its physics: after action ``step - 1``)
     substep: int  #: physics substep within it (0-based)
-    depth_m: float  #: penetration (m)
+    #: penetration (m) into the geom's face; negative: a contact inside a
+    #: wall's margin that stopped that far short of it
+    depth_m: float
     geoms: tuple[str, str]  #: the contact's geoms (MuJoCo's geom1, geom2)
     #: (m/s) speed at which they approached along the contact normal at the
     #: first substep of this spell of contact between them

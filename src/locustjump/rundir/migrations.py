@@ -28,11 +28,14 @@ pluggable names no optimizer and holds the RCGA's state unprefixed
 ``[scene]`` (wherever it is read: ``config.toml``, ``reproduce.toml``, a
 rule-based run's ``summary.json``, a ``--scene`` file; :func:`scene_before`):
 a scene parameter added after runs were shipped (:data:`SCENE_FIELDS_LATER`:
-the debris field's ``wall_height``, 2026-11-24) is absent from a table that
-names every other parameter of its scene, as locustjump wrote it before:
-there it takes the value its absence meant (no walls). A partial table, as a
-person writes one, gets today's default. It is in the hash only when not at
-that value, so those runs keep theirs.
+the debris field's ``wall_height``, 2026-11-24, and ``wall_margin``,
+2026-11-26) is absent from a table that names every other parameter of its
+scene, as locustjump wrote it before: there it takes the value its absence
+meant (no walls; walls without a margin). A table written before several were
+added lacks the last of them, in the order they came (a walled field's table
+lacks ``wall_margin``, an open field's both). Any other partial table, as a
+person writes one, gets today's defaults. Each is in the hash only when not
+at that value, so those runs keep theirs.
 
 ``reproduce.toml``: keys added later take the value their absence meant
 (:func:`reproduction_marker`). ``summary.json`` of a rule-based run: the
@@ -68,9 +71,11 @@ MARKER_BEFORE = {
 STATE_PREFIX = "opt_"
 #: what checkpoints written before optimizers were pluggable hold (the RCGA's)
 RCGA_STATE_BEFORE = ("generation", "population", "fitness", "rng_state")
-#: ``[scene]`` parameters added after runs were shipped, per scene kind, and
-#: what their absence meant
-SCENE_FIELDS_LATER: dict[str, dict[str, Any]] = {"debris": {"wall_height": 0.0}}
+#: ``[scene]`` parameters added after runs were shipped, per scene kind, in
+#: the order they were added, and what their absence meant
+SCENE_FIELDS_LATER: dict[str, dict[str, Any]] = {
+    "debris": {"wall_height": 0.0, "wall_margin": 0.0}
+}
 #: ``[model]`` fields added after runs were shipped: in the hash only when not
 #: at their default (the creature those runs used)
 MODEL_FIELDS_LATER = ("strut_stiffness", "strut_damping", "strut_swing")
@@ -123,11 +128,13 @@ def migrate_config(d: dict[str, Any], source: str) -> dict[str, Any]:
 def scene_before(kind: str, table: dict[str, Any], fields: list[str]) -> dict[str, Any]:
     """A ``[scene]`` table (without ``kind``) of scene ``kind`` whose
     parameters are ``fields``, with the parameters added later filled in
-    where locustjump wrote it before they existed (it names every other)."""
-    later = SCENE_FIELDS_LATER.get(kind, {})
-    missing = [f for f in fields if f not in table]
-    if later and missing and set(missing) <= set(later):
-        return {**table, **{f: later[f] for f in missing}}
+    where locustjump wrote it before they existed: it names every other, and
+    lacks the last ones added (:data:`SCENE_FIELDS_LATER`)."""
+    later = list(SCENE_FIELDS_LATER.get(kind, {}))
+    missing = {f for f in fields if f not in table}
+    k = len(missing)
+    if 0 < k <= len(later) and missing == set(later[-k:]):
+        return {**table, **{f: SCENE_FIELDS_LATER[kind][f] for f in missing}}
     return table
 
 

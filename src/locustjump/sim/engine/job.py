@@ -25,8 +25,10 @@ STEP_RECORDS = ("qpos", "obs", "ctrl", "memory")
 #: ``DEEPEST_CONTACT``, ``WALL_CONTACT``) after every physics call, over the
 #: control step's substeps (:func:`contact_maxima`): ``penetration``, the
 #: deepest penetration (m, >= 0) of any contact of the creature, the maximum
-#: over the substeps; ``wall_contact``, 1.0 when the creature touched a wall
-#: of the scene at any substep, else 0.0. Row 0: at the start state. Like the
+#: over the substeps (into a geom's face: a contact inside a wall's margin,
+#: short of the face, is none); ``wall_contact``, 1.0 when the creature
+#: touched a wall of the scene at any substep (inside its margin counts),
+#: else 0.0. Row 0: at the start state. Like the
 #: touch input, a substep's value is of the state at its start (MuJoCo's
 #: contacts of that ``mj_step``). Observations only: recording them changes
 #: nothing else.
