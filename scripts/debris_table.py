@@ -93,6 +93,10 @@ from locustjump.tasks.rules import (
 from locustjump.tasks.starts import ready_state
 
 STEPS = 3000
+#: the field the rules and the flat-evolved runs are scored on: the walled
+#: field of the shipped studies (wall margin 0, as those runs' own;
+#: ``--wall-margin`` for today's default)
+FIELD = Debris(wall_margin=0.0)
 
 
 def episodes(ctrl, params, starts, p, scene, backend) -> list[dict]:
@@ -144,7 +148,7 @@ def references(
     getups = [rundir.load_run(r / "getup")[2].genome for r in flat]
     out: dict[str, list] = {}
     for s in seeds:
-        scene = Debris(seed=s)
+        scene = FIELD.with_seed(s)
         starts = {"standing": ready_state(p, scene),
                   "side": rolled_starts(p, (START_ROLL,), scene)}  # fmt: skip
         for name, st in starts.items():
@@ -174,7 +178,7 @@ def run_rows(run: Path, seeds: list[int], p: lm.LocustParams, backend) -> list[d
     trained on the flat floor), simulated with ``p``'s physics."""
     _, beh, best = rundir.load_run(run)
     base = beh.terrains.scene
-    base = Debris() if base.is_flat else base
+    base = FIELD if base.is_flat else base
     rows = []
     for s in seeds:
         here = beh.on(base.with_seed(s))
@@ -296,6 +300,10 @@ def main(argv: list[str] | None = None) -> int:
                     help="flat-floor reproductions whose composed and "
                     "monolithic networks make the flat-floor group table")  # fmt: skip
     ap.add_argument("--terrain-seeds", default="100-119")
+    ap.add_argument("--wall-margin", type=float, default=0.0,
+                    help="the walls' contact margin (body lengths) of the field "
+                    "the rules and flat runs are scored on (default 0: the "
+                    "shipped studies' field; new scenes have 0.1)")  # fmt: skip
     ap.add_argument("--substeps", type=int, default=lm.LocustParams().substeps,
                     help="physics substeps per control step (training: 3; "
                     "12: converged physics)")  # fmt: skip
@@ -306,6 +314,8 @@ def main(argv: list[str] | None = None) -> int:
     runs = [r for r in args.runs if rundir.is_run(r) and (r / rundir.BEST).is_file()]
     backend = ThreadBackend()
     p = lm.LocustParams(substeps=args.substeps)
+    global FIELD
+    FIELD = Debris(wall_margin=args.wall_margin)
     refs = references(args.flat, seeds, p, backend)
     table = [summary(k, v) for k, v in refs.items()]
     held: dict[str, list[float]] = {}
