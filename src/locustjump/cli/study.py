@@ -71,6 +71,7 @@ def cmd_study(args: argparse.Namespace) -> int:
     if args.dry_run:
         print(dry_run(study, backend, args.backend))
         return 0
+
     def log(line: str) -> None:
         print(line, file=sys.stderr)
 
