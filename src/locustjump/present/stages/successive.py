@@ -178,8 +178,10 @@ class MonolithicReporter(SuccessiveReporter):
         )
         return lines + [
             "",
-            f"Composition {'helps' if better else 'does not help'} at this budget: "
-            f"the composed controller's E is {times} the monolithic one's.",
+            f"On this seed at this budget the composed controller scores "
+            f"{'above' if better else 'below'} the monolithic one: its E is {times} "
+            "the monolithic one's (one seed: no evidence either way; "
+            "docs/science.md compares seeds).",
             "",
         ]
 
