@@ -18,6 +18,9 @@ from locustjump.runs.trainer import train
 REPO = Path(__file__).resolve().parents[1]
 EXAMPLE = REPO / "studies" / "example.toml"
 SHIPPED = sorted(p for p in (REPO / "studies").glob("*.toml") if p != EXAMPLE)
+TABLED = sorted(
+    p for p in SHIPPED if (REPO / "results" / "studies" / p.stem / TABLE_MD).is_file()
+)
 
 
 def example(tmp_path: Path, **changes: str) -> Path:
@@ -172,7 +175,7 @@ def test_a_missing_or_unfinished_run_stops_the_table(tmp_path):
     assert not (tmp_path / "runs").exists()
 
 
-@pytest.mark.parametrize("path", SHIPPED, ids=lambda p: p.stem)
+@pytest.mark.parametrize("path", TABLED, ids=lambda p: p.stem)
 def test_the_shipped_study_files_name_the_shipped_runs(path, monkeypatch):
     """Every run a shipped study file declares is there, finished, with the
     configuration the file declares and built on the runs it names."""
@@ -199,11 +202,6 @@ def test_on_ray_the_runs_are_the_same_bit_for_bit(finished, local_ray, tmp_path)
         assert_same_run(
             load_study(mine).arms[arm].run_dir(2), load_study(path).arms[arm].run_dir(2)
         )
-
-
-TABLED = sorted(
-    p for p in SHIPPED if (REPO / "results" / "studies" / p.stem / TABLE_MD).is_file()
-)
 
 
 @pytest.mark.parametrize("path", TABLED, ids=lambda p: p.stem)
@@ -292,3 +290,11 @@ def test_training_terrains_are_checked(tmp_path, change, message):
     path.write_text(text)
     r = run_cli("study", str(path), "--status")
     assert r.returncode == 2 and message in r.stderr, r.stderr
+
+
+@pytest.mark.parametrize("path", SHIPPED, ids=lambda p: p.stem)
+def test_every_study_file_is_valid(path, monkeypatch):
+    """Studies still training (their runs not shipped) are valid files too."""
+    monkeypatch.chdir(REPO)
+    study = load_study(path.relative_to(REPO))
+    assert study.scored and study.seeds
