@@ -82,7 +82,11 @@ class Flat(Scene):
     name: ClassVar[str] = "flat"
 
     def mjcf(self, body_length: float) -> SceneMJCF:
-        """The floor: a plane whose grid lines are 0.05 body length apart."""
+        """The floor: a plane whose grid lines are 0.05 body length apart.
+
+        It collides through its contact pairs alone, in any scene (so that a
+        scene with a broad phase keeps this infinite plane out of its world
+        body's bounding volume hierarchy, whose every node it would enlarge)."""
         return SceneMJCF(
             assets=(
                 '<texture name="grid" type="2d" builtin="checker" width="512" '
@@ -95,8 +99,9 @@ class Flat(Scene):
                 '              reflectance="0"/>'
             ),
             worldbody=(
-                f'<geom name="{names.FLOOR}" type="plane" '
-                f'size="0 0 {0.05 * body_length:.9g}" material="grid"/>'
+                f'<geom name="{names.FLOOR}" type="plane" contype="0" '
+                f'conaffinity="0" size="0 0 {0.05 * body_length:.9g}" '
+                'material="grid"/>'
             ),
             geoms=(names.FLOOR,),
         )
