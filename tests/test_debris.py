@@ -87,13 +87,23 @@ def _world_tree(m: mujoco.MjModel) -> tuple[np.ndarray, ...]:
     return m.bvh_child[rows], m.bvh_nodeid[rows], m.bvh_aabb[rows]
 
 
+def _as_compiled(scene: Debris) -> mujoco.MjModel:
+    """The debris model as MuJoCo compiles its MJCF, and without sleeping: the
+    world body's tree is the compiler's, its static geoms' poses are computed
+    at every step (the engine's model before issue #45)."""
+    xml = lm.to_mjcf(P, scene=scene).replace('<flag sleep="enable"/>', "")
+    m = mujoco.MjModel.from_xml_string(xml)
+    assert not m.opt.enableflags & mujoco.mjtEnableBit.mjENBL_SLEEP
+    return m
+
+
 def test_the_world_tree_holds_the_compilers_leaves():
     """The engine's debris model walks a rebuilt bounding volume hierarchy
     (sim/bvh.py, docs/performance.md): the compiler's leaves with their very
     boxes, every node holding its children's, and no floor plane among them,
     so that no node is larger than the walled field; the flat floor has none."""
     scene = Debris(seed=3)
-    built = mujoco.MjModel.from_xml_string(lm.to_mjcf(P, scene=scene))
+    built = _as_compiled(scene)
     m = lm.load_model(P, scene)
     assert m.geom_contype[m.geom(names.FLOOR).id] == 0  # its pairs only
     child, node, box = _world_tree(m)
@@ -116,11 +126,11 @@ def test_the_world_tree_holds_the_compilers_leaves():
 def test_the_rebuilt_tree_finds_the_compilers_contacts():
     """Thrown at the walls and dropped on the rubble with random servo
     targets, the creature meets the same contacts, in the same order, at every
-    physics step with the rebuilt tree as with the compiler's, and moves the
-    same, bit for bit."""
+    physics step with the rebuilt tree and the world asleep as with the
+    compiler's tree and every geom's pose computed, and moves the same, bit
+    for bit. The world's static geoms sleep; the creature never does."""
     scene = Debris(seed=3)
-    models = [mujoco.MjModel.from_xml_string(lm.to_mjcf(P, scene=scene)),
-              lm.load_model(P, scene)]  # fmt: skip
+    models = [_as_compiled(scene), lm.load_model(P, scene)]
     start = ready_state(P, scene)
     box = scene.boxes(BL)[np.argmin(np.hypot(*scene.boxes(BL)[:, :2].T))]
     rng = np.random.default_rng(0)
@@ -146,6 +156,11 @@ def test_the_rebuilt_tree_finds_the_compilers_contacts():
                 np.testing.assert_array_equal(ds[0].qpos, ds[1].qpos)
                 met |= {kind[g] for g in a.geom.flat}
     assert {names.FLOOR, names.DEBRIS, names.WALL} <= met
+    sleep = mujoco.mjtEnableBit.mjENBL_SLEEP
+    assert models[1].opt.enableflags & sleep
+    never = mujoco.mjtSleepPolicy.mjSLEEP_NEVER
+    assert (models[1].tree_sleep_policy == never).all()
+    assert not lm.load_model(P).opt.enableflags & sleep  # the flat floor: as before
 
 
 def test_walls_close_the_field_and_are_not_ground():

@@ -79,10 +79,15 @@ def to_mjcf(
     pairs = "".join(
         f'\n    <pair geom1="{g}" geom2="{c}"/>' for g, c in contact_pairs(world.geoms)
     )
+    # A scene of many static geoms: with sleeping on, MuJoCo stops computing
+    # their poses at every step (1 us of a debris step's 10); the creature
+    # itself never sleeps (its tree's policy), so nothing else changes
+    # (bit-identical). The price: a mujoco.batch.Batch of it must be persistent.
+    flags = '\n    <flag sleep="enable"/>\n  ' if world.broad_phase else ""
     xml = f"""<mujoco model="locust">
   <compiler angle="degree" autolimits="true"/>
   <option timestep="{p.timestep:.12g}" integrator="{p.integrator}" cone="pyramidal"
-          iterations="{p.iterations}" ls_iterations="{p.ls_iterations}"/>
+          iterations="{p.iterations}" ls_iterations="{p.ls_iterations}">{flags}</option>
   <size memory="1M" nuserdata="3"/>
   <visual>
     <global offwidth="1280" offheight="720"/>
