@@ -43,7 +43,8 @@ class SceneMJCF:
     geoms: tuple[str, ...]  #: geoms the creature may touch, in pair order
     #: whether more geoms (``worldbody``'s with ``conaffinity="1"``) collide
     #: with the creature through MuJoCo's broad phase: the creature's geoms then
-    #: get ``contype="1"`` (they still never collide with each other)
+    #: get ``contype="1"`` (they still never collide with each other), and the
+    #: model lets the static geoms sleep (their poses are not recomputed)
     broad_phase: bool = False
 
 
@@ -246,7 +247,9 @@ class Debris(Flat):
         ``wall0`` ... (broad phase)."""
         floor = super().mjcf(body_length)
         # the boxes collide through the broad phase (117 boxes as explicit
-        # pairs: 1,416 pairs, mj_step 2.5x the floor's; broad phase: 1.6x);
+        # pairs: 1,416 pairs, mj_step 2.5x the floor's; broad phase: 1.6x;
+        # what that costs now: docs/performance.md, "Debris at the floor's
+        # cost");
         # priority: their friction, not the larger of theirs and the creature's
         contact = (
             f'contype="0" conaffinity="1" priority="1" '
