@@ -82,6 +82,87 @@ def test_the_boxes_collide_with_the_creature_only():
     assert m.npair == flat.npair
 
 
+def _world_tree(m: mujoco.MjModel) -> tuple[np.ndarray, ...]:
+    rows = slice(m.body_bvhadr[0], m.body_bvhadr[0] + m.body_bvhnum[0])
+    return m.bvh_child[rows], m.bvh_nodeid[rows], m.bvh_aabb[rows]
+
+
+def _as_compiled(scene: Debris) -> mujoco.MjModel:
+    """The debris model as MuJoCo compiles its MJCF, and without sleeping: the
+    world body's tree is the compiler's, its static geoms' poses are computed
+    at every step (the engine's model before issue #45)."""
+    xml = lm.to_mjcf(P, scene=scene).replace('<flag sleep="enable"/>', "")
+    m = mujoco.MjModel.from_xml_string(xml)
+    assert not m.opt.enableflags & mujoco.mjtEnableBit.mjENBL_SLEEP
+    return m
+
+
+def test_the_world_tree_holds_the_compilers_leaves():
+    """The engine's debris model walks a rebuilt bounding volume hierarchy
+    (sim/bvh.py, docs/performance.md): the compiler's leaves with their very
+    boxes, every node holding its children's, and no floor plane among them,
+    so that no node is larger than the walled field; the flat floor has none."""
+    scene = Debris(seed=3)
+    built = _as_compiled(scene)
+    m = lm.load_model(P, scene)
+    assert m.geom_contype[m.geom(names.FLOOR).id] == 0  # its pairs only
+    child, node, box = _world_tree(m)
+    _, node0, box0 = _world_tree(built)
+    leaves = node >= 0
+    assert sorted(node[leaves]) == sorted(node0[node0 >= 0])
+    assert m.geom(names.FLOOR).id not in node[leaves]
+    assert len(node[leaves]) == len(scene.boxes(BL)) + 4
+    for i in np.flatnonzero(leaves):
+        np.testing.assert_array_equal(box[i], box0[node0 == node[i]][0])
+    for i in np.flatnonzero(~leaves):
+        for c in child[i]:
+            assert c > i  # pre-order, as the compiler writes it
+            assert (box[i, 3:] - np.abs(box[c, :3] - box[i, :3]) >= box[c, 3:]).all()
+    field = np.array([scene.behind + scene.length + 2, scene.width + 2]) * BL / 2
+    assert (box[0, 3:5] <= field * (1 + 1e-12)).all()
+    assert lm.load_model(P).body_bvhnum[0] == 0
+
+
+def test_the_rebuilt_tree_finds_the_compilers_contacts():
+    """Thrown at the walls and dropped on the rubble with random servo
+    targets, the creature meets the same contacts, in the same order, at every
+    physics step with the rebuilt tree and the world asleep as with the
+    compiler's tree and every geom's pose computed, and moves the same, bit
+    for bit. The world's static geoms sleep; the creature never does."""
+    scene = Debris(seed=3)
+    models = [_as_compiled(scene), lm.load_model(P, scene)]
+    start = ready_state(P, scene)
+    box = scene.boxes(BL)[np.argmin(np.hypot(*scene.boxes(BL)[:, :2].T))]
+    rng = np.random.default_rng(0)
+    lo, hi = models[1].actuator_ctrlrange.T
+    kind = [models[0].geom(g).name.rstrip("0123456789") for g in range(models[0].ngeom)]
+    met = set()
+    for pos, vel in (((0, 0, 0), (0, 6, 2)), ((0, 0, 0), (-6, 0, 2)),
+                     ((box[0], box[1], box[5] + 0.2 * BL), (0, 0, 0))):  # fmt: skip
+        ds = [mujoco.MjData(m) for m in models]
+        for d in ds:
+            d.qpos[:], d.ctrl[:] = start.qpos[0], start.ctrl[0]
+            d.qpos[:3] += pos
+            d.qvel[:3] = vel
+        for _ in range(300):
+            ctrl = np.clip(ds[0].ctrl + rng.uniform(-0.2, 0.2, 4), lo, hi)
+            for _ in range(P.substeps):
+                for m, d in zip(models, ds, strict=True):
+                    d.ctrl[:] = ctrl
+                    mujoco.mj_step(m, d)
+                a, b = (d.contact for d in ds)
+                for field in ("geom", "dist", "pos", "frame", "dim", "solref"):
+                    np.testing.assert_array_equal(getattr(a, field), getattr(b, field))
+                np.testing.assert_array_equal(ds[0].qpos, ds[1].qpos)
+                met |= {kind[g] for g in a.geom.flat}
+    assert {names.FLOOR, names.DEBRIS, names.WALL} <= met
+    sleep = mujoco.mjtEnableBit.mjENBL_SLEEP
+    assert models[1].opt.enableflags & sleep
+    never = mujoco.mjtSleepPolicy.mjSLEEP_NEVER
+    assert (models[1].tree_sleep_policy == never).all()
+    assert not lm.load_model(P).opt.enableflags & sleep  # the flat floor: as before
+
+
 def test_walls_close_the_field_and_are_not_ground():
     m = lm.load_model(P, Debris())
     walls = [i for i in range(m.ngeom) if m.geom(i).name.startswith(names.WALL)]

@@ -181,7 +181,9 @@ def creature_mjcf(p: LocustParams) -> CreatureMJCF:
     )
     head_x = (p.body_half_length + p.head_radius) * s
     h0 = standing_height(p)
-    body = f"""<body name="{names.BODY}" childclass="{CLASS}" pos="0 0 {h0:.9g}">
+    # sleep="never": it is always simulated, also where the world sleeps
+    body = f"""<body name="{names.BODY}" childclass="{CLASS}" pos="0 0 {h0:.9g}"
+      sleep="never">
       <freejoint name="{names.ROOT_JOINT}"/>
       <camera name="{names.CAMERA_TRACK}" mode="trackcom"
               pos="0 {-3 * bl:.9g} {0.6 * bl:.9g}" xyaxes="1 0 0 0 0.2 1"/>

@@ -43,7 +43,8 @@ class SceneMJCF:
     geoms: tuple[str, ...]  #: geoms the creature may touch, in pair order
     #: whether more geoms (``worldbody``'s with ``conaffinity="1"``) collide
     #: with the creature through MuJoCo's broad phase: the creature's geoms then
-    #: get ``contype="1"`` (they still never collide with each other)
+    #: get ``contype="1"`` (they still never collide with each other), and the
+    #: model lets the static geoms sleep (their poses are not recomputed)
     broad_phase: bool = False
     #: geoms that bound the world rather than make its ground (walls): the
     #: engine records the control steps in which the creature touches them
@@ -86,7 +87,11 @@ class Flat(Scene):
     name: ClassVar[str] = "flat"
 
     def mjcf(self, body_length: float) -> SceneMJCF:
-        """The floor: a plane whose grid lines are 0.05 body length apart."""
+        """The floor: a plane whose grid lines are 0.05 body length apart.
+
+        It collides through its contact pairs alone, in any scene (so that a
+        scene with a broad phase keeps this infinite plane out of its world
+        body's bounding volume hierarchy, whose every node it would enlarge)."""
         return SceneMJCF(
             assets=(
                 '<texture name="grid" type="2d" builtin="checker" width="512" '
@@ -99,8 +104,9 @@ class Flat(Scene):
                 '              reflectance="0"/>'
             ),
             worldbody=(
-                f'<geom name="{names.FLOOR}" type="plane" '
-                f'size="0 0 {0.05 * body_length:.9g}" material="grid"/>'
+                f'<geom name="{names.FLOOR}" type="plane" contype="0" '
+                f'conaffinity="0" size="0 0 {0.05 * body_length:.9g}" '
+                'material="grid"/>'
             ),
             geoms=(names.FLOOR,),
         )
@@ -264,7 +270,9 @@ class Debris(Flat):
         ``wall0`` ... (broad phase)."""
         floor = super().mjcf(body_length)
         # the boxes collide through the broad phase (117 boxes as explicit
-        # pairs: 1,416 pairs, mj_step 2.5x the floor's; broad phase: 1.6x);
+        # pairs: 1,416 pairs, mj_step 2.5x the floor's; broad phase: 1.6x;
+        # what that costs now: docs/performance.md, "Debris at the floor's
+        # cost");
         # priority: their friction, not the larger of theirs and the creature's
         contact = (
             f'contype="0" conaffinity="1" priority="1" '

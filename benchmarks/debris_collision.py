@@ -1,0 +1,120 @@
+"""Where a debris physics step's time goes, by MuJoCo's own stage timers
+(``d.timer``), on the flat floor, on the debris model as MuJoCo compiles its
+MJCF without this package's collision work (issue #45: the floor in the world
+body's tree, the compiler's tree, every static geom's pose recomputed each
+step) and on the engine's debris model.
+
+Rule-based controllers (--episodes change times in [0, 1] s, --steps control
+steps) run through the engine on each scene; their servo targets are replayed
+substep by substep on one ``MjData``, one thread, on each model of that
+scene, --repeats times (medians). Both debris models must give the same
+trajectory, bit for bit (printed).
+
+    python benchmarks/debris_collision.py [--terrains 3] [--repeats 3]
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+
+import mujoco
+import numpy as np
+
+from locustjump.sim import model as lm
+from locustjump.sim.engine.backends import ThreadBackend
+from locustjump.sim.engine.rollout import rollout
+from locustjump.sim.scene import Debris, Flat, Scene
+from locustjump.tasks.rules import RuleController
+from locustjump.tasks.starts import ready_state
+
+STAGES = {
+    "step": "STEP",
+    "kinematics": "POS_KINEMATICS",
+    "collision": "POS_COLLISION",
+    "broad phase": "COL_BROAD",
+    "mid + narrow": "COL_NARROW",
+    "make constraints": "POS_MAKE",
+    "solver": "CONSTRAINT",
+}
+
+
+def as_compiled(p: lm.LocustParams, scene: Scene) -> mujoco.MjModel:
+    """The debris model before issue #45, from today's MJCF: no sleeping, the
+    floor plane in the world body's tree (contype 1), the compiler's tree."""
+    xml = lm.to_mjcf(p, scene=scene).replace('<flag sleep="enable"/>', "")
+    xml = xml.replace('type="plane" contype="0"', 'type="plane" contype="1"')
+    return mujoco.MjModel.from_xml_string(xml)
+
+
+def replay(m, p, start, ctrl) -> tuple[dict[str, float], float, np.ndarray]:
+    """(us a physics step per stage, contacts a step, qpos after each control
+    step) of the servo targets ``ctrl (n, T + 1, nu)`` from ``start``."""
+    d = mujoco.MjData(m)
+    total = dict.fromkeys(STAGES, 0.0)
+    steps = contacts = 0
+    qpos = []
+    for e in range(len(ctrl)):
+        mujoco.mj_resetData(m, d)
+        d.qpos[:], d.qvel[:] = start.qpos[0], start.qvel[0]
+        mujoco.mj_forward(m, d)
+        for t in range(1, ctrl.shape[1]):
+            d.ctrl[:] = ctrl[e, t]
+            for _ in range(p.substeps):
+                mujoco.mj_step(m, d)
+                contacts += d.ncon
+            qpos.append(d.qpos.copy())
+        steps += d.timer[mujoco.mjtTimer.mjTIMER_STEP].number
+        for k, t in STAGES.items():
+            total[k] += d.timer[getattr(mujoco.mjtTimer, "mjTIMER_" + t)].duration
+    return (
+        {k: v / steps * 1e6 for k, v in total.items()},
+        contacts / steps,
+        np.array(qpos),
+    )
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--terrains", type=int, default=3)
+    ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--episodes", type=int, default=8)
+    ap.add_argument("--steps", type=int, default=3000)
+    args = ap.parse_args()
+    p = lm.LocustParams()
+    rc = RuleController.for_model(p)
+    params = rc.params_for(np.linspace(0.0, 1.0, args.episodes))
+    rows: dict[str, list] = {"flat floor": [], "debris, as compiled": [],
+                             "debris, engine's model": []}  # fmt: skip
+    identical = True
+    with ThreadBackend(1) as backend:
+        for seed in range(args.terrains):
+            runs = []
+            for scene in (Flat(), Debris(seed=seed)):
+                start = ready_state(p, scene)
+                res = rollout(
+                    rc, params, start, args.steps, model_params=p,
+                    record=("ctrl",), backend=backend, scene=scene,
+                )  # fmt: skip
+                runs.append((scene, start, res["ctrl"]))
+            (flat, fs, fc), (debris, ds, dc) = runs
+            models = [(lm.load_model(p, flat), fs, fc),
+                      (as_compiled(p, debris), ds, dc),
+                      (lm.load_model(p, debris), ds, dc)]  # fmt: skip
+            for _ in range(args.repeats):
+                out = [replay(m, p, s, c) for m, s, c in models]
+                identical &= np.array_equal(out[1][2], out[2][2])
+                for name, (t, ncon, _) in zip(rows, out, strict=True):
+                    rows[name].append({**t, "contacts": ncon})
+    print(f"us a physics step, median of {args.terrains} terrains x {args.repeats}; "
+          f"debris trajectories identical: {identical}\n")  # fmt: skip
+    cols = [*STAGES, "contacts"]
+    print("| model | " + " | ".join(cols) + " |")
+    print("| --- |" + " --- |" * len(cols))
+    for name, r in rows.items():
+        cells = [f"{statistics.median(x[c] for x in r):.2f}" for c in cols]
+        print(f"| {name} | " + " | ".join(cells) + " |")
+
+
+if __name__ == "__main__":
+    main()
