@@ -298,3 +298,13 @@ def test_every_study_file_is_valid(path, monkeypatch):
     monkeypatch.chdir(REPO)
     study = load_study(path.relative_to(REPO))
     assert study.scored and study.seeds
+
+
+def test_a_study_file_that_is_not_a_file(tmp_path):
+    for path, message in ((tmp_path / "none.toml", "no such study file"),
+                          (tmp_path, "a study file is a .toml file")):  # fmt: skip
+        r = run_cli("study", str(path), "--status")
+        assert r.returncode == 2 and message in r.stderr
+    (tmp_path / "dir.toml").mkdir()
+    r = run_cli("study", str(tmp_path / "dir.toml"), "--status")
+    assert r.returncode == 2 and "not a regular file" in r.stderr

@@ -154,7 +154,8 @@ def load_study(path: str | os.PathLike, seeds: str | None = None) -> Study:
     if path.suffix != ".toml":
         raise UserError(f"{path}: a study file is a .toml file")
     if not path.is_file():
-        raise UserError(f"{path}: no such study file")
+        what = "not a regular file" if path.exists() else "no such study file"
+        raise UserError(f"{path}: {what}")
     d = rundir.read_toml(path)
     src = str(path)
     unknown = sorted(set(d) - set(TOP_KEYS))
