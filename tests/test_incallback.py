@@ -35,6 +35,27 @@ def test_the_kernels_digest_is_current():
     )
 
 
+def test_the_cached_kernels_read_nothing_from_another_module():
+    """Numba's cache keys a kernel's machine code on its own file, and the
+    globals it reads are frozen into that code: a constant imported from
+    another module (MAX_DELTA from actuation.py, once) could change there
+    while the cached kernel kept the old value. kernels.py imports nothing
+    from locustjump, and the actuation rule's limit is the kernels' own."""
+    import ast
+    from pathlib import Path
+
+    from locustjump.sim import actuation, kernels
+
+    tree = ast.parse(Path(kernels.__file__).read_text())
+    imported = [
+        n.module
+        for n in ast.walk(tree)
+        if isinstance(n, ast.ImportFrom) and n.module and n.module != "__future__"
+    ] + [a.name for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names]
+    assert not [m for m in imported if m.startswith("locustjump")], imported
+    assert actuation.MAX_DELTA is kernels.MAX_DELTA
+
+
 def test_the_field_offsets_are_those_of_this_mujoco():
     # the literals the compiled callback was built with, against the offsets
     # read from MuJoCo's own struct descriptions and checked on live data

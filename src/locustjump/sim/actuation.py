@@ -7,8 +7,10 @@ from __future__ import annotations
 
 import numpy as np
 
+# defined beside the compiled kernels, whose cached code bakes it in
+from locustjump.sim.kernels import MAX_DELTA
+
 N_ACTUATORS = 4
-MAX_DELTA = np.radians(10.0)  # (rad) largest target change per control step
 
 
 def apply_deltas(

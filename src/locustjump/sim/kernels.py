@@ -31,7 +31,11 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from locustjump.sim.actuation import MAX_DELTA
+# Numba caches the machine code of these kernels keyed on this file alone, and
+# a global a kernel reads is frozen into that code: so every value a kernel
+# reads is defined here, never imported (tests/test_incallback.py checks it).
+# actuation.py takes the rule's limit from here.
+MAX_DELTA = np.radians(10.0)  # (rad) largest target change per control step
 
 # output squashing codes (MLP.output)
 DELTA, SIGMOID, LINEAR = 0, 1, 2

@@ -73,7 +73,7 @@ _OFF_QPOS, _OFF_CTRL, _OFF_SENS, _OFF_USER, _OFF_WARN, _OFF_NUSER = OFFSETS
 #: SHA-256 of kernels.py, whose functions the cached compiled code below calls:
 #: Numba's cache notices changes to this file only, so a change there must
 #: change this line too (``tests/test_incallback.py`` says so, with the digest)
-KERNELS_SHA256 = "56087242a62977d2cf6c324014311e2adfa61d52770c2ed84552acde05be9cfc"
+KERNELS_SHA256 = "e0a0ee1594a5cbf784b0765ffc60696c6e43fa9628fb50f95bb872795de90b58"
 
 
 def kernels_digest() -> str:
