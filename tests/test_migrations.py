@@ -52,6 +52,17 @@ def test_format1_engine_under_model_or_absent_reads_as_the_runs(
     assert read.hash() == cfg.replace(engine=engine).hash()
 
 
+@pytest.mark.parametrize(
+    "text", ["[model]\nsubsteps = 6\n", 'behaviour = "getup"\n[model]\nscale = 10.0\n']
+)
+def test_a_partial_config_with_a_model_table_gets_todays_engine(tmp_path, text):
+    """A hand-written --config naming part of [model] is today's spelling, not
+    a run's config.toml from before the compiled engine (those name every
+    field: NumPy, above)."""
+    (tmp_path / "c.toml").write_text(text)
+    assert rundir.load_config(tmp_path / "c.toml").engine == TrainConfig().engine
+
+
 def test_format1_rcga_table_reads_as_the_rcga(tmp_path):
     d = _format1(TrainConfig(), engine="numba")
     d["rcga"] = {k: v for k, v in d.pop("optimizer").items() if k != "kind"}

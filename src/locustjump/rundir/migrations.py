@@ -12,8 +12,9 @@ which every run made before 2026-11 holds, and any partial ``--config`` file):
 * ``[rcga]`` instead of ``[optimizer]`` (before optimizers were pluggable):
   ``kind = "rcga"``;
 * ``model.engine`` (before the engine was the run's): the run's ``engine``;
-  no engine at all beside a ``[model]`` table (before the compiled engine):
-  ``"numpy"``;
+  no engine at all beside a whole ``[model]`` table (a run's own file from
+  before the compiled engine): ``"numpy"``; a partial one (a hand-written
+  ``--config``) gets today's default;
 * ``simple`` (the digest of the frozen genomes): ``frozen_digest``.
 
 The config hash is the identity of an experiment, so it is computed on the
@@ -46,6 +47,7 @@ of a composed run: ``simple.npz`` before version 2 (:func:`frozen_path`).
 from __future__ import annotations
 
 import copy
+import dataclasses
 from pathlib import Path
 from typing import Any
 
@@ -53,6 +55,7 @@ import numpy as np
 
 from locustjump.errors import UserError
 from locustjump.rundir.layout import FORMAT, FROZEN
+from locustjump.sim.params import LocustParams
 
 #: version of ``config.toml`` this locustjump writes
 CONFIG_FORMAT = 2
@@ -114,7 +117,7 @@ def migrate_config(d: dict[str, Any], source: str) -> dict[str, Any]:
                     f"{source}: give engine or the older model.engine, not two"
                 )
             d["engine"] = model.pop("engine")
-        else:
+        elif _whole_model(model):  # a run's own file, made before the engine
             d.setdefault("engine", ENGINE_BEFORE)
     if "simple" in d:
         if "frozen_digest" in d:
@@ -123,6 +126,15 @@ def migrate_config(d: dict[str, Any], source: str) -> dict[str, Any]:
             )
         d["frozen_digest"] = d.pop("simple")
     return d
+
+
+def _whole_model(model: dict[str, Any]) -> bool:
+    """Whether a ``[model]`` table names every field locustjump wrote before
+    the compiled engine (today's but :data:`MODEL_FIELDS_LATER`): a run's own
+    ``config.toml`` of that time. A partial table (a hand-written ``--config``
+    or a study's arm) is today's spelling: it gets today's engine."""
+    names = {f.name for f in dataclasses.fields(LocustParams)}
+    return names - set(MODEL_FIELDS_LATER) <= set(model)
 
 
 def scene_before(kind: str, table: dict[str, Any], fields: list[str]) -> dict[str, Any]:
