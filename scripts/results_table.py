@@ -16,10 +16,10 @@ from locustjump.present.evaluate import evaluate_run
 from locustjump.tasks.getup import sweep_angles, sweep_getup
 
 
-def main() -> None:
+def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("runs", nargs="+")
-    args = ap.parse_args()
+    args = ap.parse_args(argv)
     rows, header, summary = [], None, []
     kinds = {rundir.load_run(d)[0].behaviour for d in args.runs}
     if len(kinds) > 1:
@@ -28,7 +28,7 @@ def main() -> None:
         cfg, _, best = rundir.load_run(d)
         ev = evaluate_run(d)
         m = ev.metrics
-        budget = f"{cfg.rcga.population} x {best.generation}/{cfg.generations}"
+        budget = f"{cfg.population} x {best.generation}/{cfg.generations}"
         if cfg.behaviour == "kick":
             header = ["seed", "pop x best-gen/gens", "E [m²]", "rule-based E",
                       "highest apex [m]", "apex / rule-based first apex",

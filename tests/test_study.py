@@ -119,3 +119,17 @@ def test_science_md_debris_table_is_the_shipped_study():
         for c in pairs:
             text = f"{c['shift']:.0f} [{c['low']:.0f}, {c['high']:.0f}]"
             assert text.replace("-", "−") in doc, (sub, text)
+
+
+def test_results_table_script_reads_todays_runs(capsys):
+    """scripts/results_table.py (the README's tables) on a shipped run: its
+    budget column is the run's population x generations (it read the
+    configuration's 0.1 spelling, ``cfg.rcga``, and failed)."""
+    import importlib.util
+
+    path = RESULTS.parent / "scripts" / "results_table.py"
+    spec = importlib.util.spec_from_file_location("results_table", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    module.main([str(RESULTS / "demo-seed0" / "kick")])
+    assert "| 50 x 90/100 |" in capsys.readouterr().out
