@@ -133,3 +133,11 @@ def test_every_shell_command_line_is_accepted():
     assert checked >= 5
     for script in re.findall(r"python (scripts/\S+\.py)", README.read_text()):
         assert (ROOT / script).is_file(), script
+
+
+def test_the_readme_replays_write_distinct_directories():
+    """Each `locustjump replay ... --out DIR` of the README writes its own
+    DIR: run one after another as written, none finds the last one's."""
+    text = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    outs = re.findall(r"locustjump replay \S+ --out ([^\s`]+)", text)
+    assert len(outs) >= 3 and len(set(outs)) == len(outs), outs
