@@ -74,8 +74,9 @@ def build_parser() -> argparse.ArgumentParser:
         "model",
         help="write the MJCF model of the creature",
         description=(
-            "Write the complete MJCF model (creature + flat floor) that training "
-            "simulates; stock MuJoCo loads it (python -m mujoco.viewer --mjcf=FILE)."
+            "Write the complete MJCF model (the creature in its scene: the flat "
+            "floor, or --scene's) that training simulates; stock MuJoCo loads it "
+            "(python -m mujoco.viewer --mjcf=FILE)."
         ),
     )
     p.add_argument(
