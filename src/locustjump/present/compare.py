@@ -23,14 +23,11 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-import matplotlib
 import numpy as np
-
-matplotlib.use("Agg")  # no display needed
-import matplotlib.pyplot as plt  # noqa: E402
 
 from locustjump import rundir
 from locustjump.errors import UserError
+from locustjump.present.plots import subplots
 from locustjump.present.stats import Sample, compare_samples, interval_text, p_text
 
 #: the x axis when a composed run's frozen runs are counted (total_budget)
@@ -232,7 +229,7 @@ def convergence_figure(groups: Sequence[Group], path: str | os.PathLike,
                        ) -> Path:  # fmt: skip
     """Best fitness so far against genome evaluations: median line and
     interquartile band over each group's runs."""
-    fig, ax = plt.subplots(figsize=(7, 4.2))
+    fig, ax = subplots(figsize=(7, 4.2))
     for g in groups:
         grid = np.unique(np.concatenate([c[0] for c in g.curves]))
         ys = np.array([
@@ -250,5 +247,4 @@ def convergence_figure(groups: Sequence[Group], path: str | os.PathLike,
     path = Path(path)
     with rundir.atomic_path(path) as tmp:
         fig.savefig(tmp, format=path.suffix.lstrip(".") or "png", dpi=120)
-    plt.close(fig)
     return path

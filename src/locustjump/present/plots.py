@@ -1,28 +1,32 @@
-"""Figures (Matplotlib, Agg backend: no display needed)."""
+"""Figures (Matplotlib ``Figure`` objects, without pyplot: no display needed,
+and importing this module leaves the user's Matplotlib backend alone)."""
 
 from __future__ import annotations
 
 from pathlib import Path
 
-import matplotlib
+import numpy as np
 from matplotlib.colors import ListedColormap
+from matplotlib.figure import Figure
 
 from locustjump.rundir import atomic_write_bytes
+from locustjump.sim.analysis import Jump
 from locustjump.sim.model import CONTROL_DT
 from locustjump.sim.names import ACTUATED_JOINTS
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from locustjump.sim.analysis import Jump  # noqa: E402
 
 
 def _save(fig, path: Path) -> None:
     """Write ``fig`` as PNG with the run directory's atomic writer; close it."""
 
     atomic_write_bytes(path, lambda f: fig.savefig(f, dpi=120, format="png"))
-    plt.close(fig)
+
+
+def subplots(*args, figsize: tuple[float, float], **kw):
+    """``(Figure, axes)``: ``pyplot.subplots`` without pyplot (a figure no
+    backend knows of, so nothing to close and no display needed)."""
+    layout = kw.pop("constrained_layout", None)
+    fig = Figure(figsize=figsize, constrained_layout=layout)
+    return fig, fig.subplots(*args, **kw)
 
 
 def _finish(fig, ax, path: Path, title: str, *, legend: str) -> None:
@@ -81,7 +85,7 @@ def trajectory_figure(
       ground: the terrain's profile under the first path (drawn filled), or
         None on the flat floor.
     """
-    fig, ax = plt.subplots(figsize=(9, 3.6), constrained_layout=True)
+    fig, ax = subplots(figsize=(9, 3.6), constrained_layout=True)
     _plot_trajectories(ax, curves, ground=ground)
     _finish(fig, ax, path, title, legend="upper right")
 
@@ -89,7 +93,7 @@ def trajectory_figure(
 def fitness_curves(path: Path, metrics: np.ndarray, *, title: str = "") -> None:
     """Best and mean (+- std) fitness per generation from a metrics table."""
     g = metrics["generation"]
-    fig, ax = plt.subplots(figsize=(6.4, 3.6), constrained_layout=True)
+    fig, ax = subplots(figsize=(6.4, 3.6), constrained_layout=True)
     ax.fill_between(
         g,
         metrics["mean"] - metrics["std"],
@@ -128,7 +132,7 @@ def composed_figure(
     """
 
     rows = 2 if selected is not None else 1
-    fig, axes = plt.subplots(
+    fig, axes = subplots(
         rows,
         1,
         figsize=(9, 4.6 if rows == 2 else 3.6),
@@ -169,7 +173,7 @@ def getup_figure(
     """U_z over time from each start state (the paper's Fig. 9)."""
 
     t = np.arange(uz.shape[1]) * CONTROL_DT
-    fig, ax = plt.subplots(figsize=(7, 3.6), constrained_layout=True)
+    fig, ax = subplots(figsize=(7, 3.6), constrained_layout=True)
     for u, r in zip(uz, rolls, strict=True):
         ax.plot(t, u, lw=1.3, label=f"rolled {r:g} deg")
     ax.axhline(success, color="k", ls=":", lw=1, label=f"success (U_z >= {success})")
@@ -185,7 +189,7 @@ def joint_angles_figure(path: Path, angles: np.ndarray, target: np.ndarray) -> N
     """The four hind joint angles over time and their ready angles phi (Fig. 10)."""
 
     t = np.arange(angles.shape[0]) * CONTROL_DT
-    fig, ax = plt.subplots(figsize=(7, 3.6), constrained_layout=True)
+    fig, ax = subplots(figsize=(7, 3.6), constrained_layout=True)
     for i, name in enumerate(ACTUATED_JOINTS):
         (line,) = ax.plot(t, np.degrees(angles[:, i]), lw=1.3, label=name)
         ax.axhline(np.degrees(target[i]), color=line.get_color(), ls="--", lw=0.8)
@@ -198,7 +202,7 @@ def joint_angles_figure(path: Path, angles: np.ndarray, target: np.ndarray) -> N
 
 def sweep_figure(path: Path, sweep, *, title: str = "") -> None:
     """Polar plot of get-up success over the start roll angle."""
-    fig = plt.figure(figsize=(5.2, 5.2), constrained_layout=True)
+    fig = Figure(figsize=(5.2, 5.2), constrained_layout=True)
     ax = fig.add_subplot(projection="polar")
     ax.set_theta_zero_location("N")  # 0 deg = upright, at the top
     ax.set_theta_direction(-1)
