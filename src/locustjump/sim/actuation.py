@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 
 # defined beside the compiled kernels, whose cached code bakes it in
-from locustjump.sim.kernels import MAX_DELTA
+from locustjump.sim.kernels import MAX_DELTA as MAX_DELTA
 
 N_ACTUATORS = 4
 
@@ -34,4 +34,5 @@ def apply_deltas(
     np.minimum(step, MAX_DELTA, out=step)
     step += targets
     np.maximum(step, ranges[:, 0], out=step)
-    return np.minimum(step, ranges[:, 1], out=step if out is None else out)
+    new: np.ndarray = np.minimum(step, ranges[:, 1], out=step if out is None else out)
+    return new

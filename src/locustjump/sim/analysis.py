@@ -33,10 +33,11 @@ def clearance(
     """Height (m) of the body centre above the ground under it, of trajectories
     ``qpos (..., nq)`` (shape ``qpos.shape[:-1]``): ``z`` on the flat floor,
     ``z - h(x, y)`` on a terrain (``h``: :meth:`Scene.heights`)."""
-    z = qpos[..., 2]
+    z: np.ndarray = qpos[..., 2]
     if scene.is_flat:
         return z
-    return z - scene.heights(qpos[..., 0], qpos[..., 1], p.body_length)
+    above: np.ndarray = z - scene.heights(qpos[..., 0], qpos[..., 1], p.body_length)
+    return above
 
 
 def ground_profile(
@@ -88,7 +89,7 @@ def find_jumps(
         bounds.append((s, b))
     jumps = []
     for a, b in bounds:
-        k = a + int(np.argmax(z[a:b]))
+        k = int(a) + int(np.argmax(z[a:b]))
         jumps.append(
             Jump(int(a), k, int(b), float(z[k]), float(qpos[k, 0]), float(z[k] - stand))
         )

@@ -32,7 +32,10 @@ import numpy as np
 
 def _surface(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
     e = hi - lo
-    return e[..., 0] * e[..., 1] + e[..., 1] * e[..., 2] + e[..., 2] * e[..., 0]
+    area: np.ndarray = (
+        e[..., 0] * e[..., 1] + e[..., 1] * e[..., 2] + e[..., 2] * e[..., 0]
+    )
+    return area
 
 
 def _split(lo: np.ndarray, hi: np.ndarray, ids: np.ndarray) -> np.ndarray:
@@ -40,7 +43,7 @@ def _split(lo: np.ndarray, hi: np.ndarray, ids: np.ndarray) -> np.ndarray:
     area heuristic) of the leaves sorted by centre along one of the axes
     (ties: geom id, then the lowest axis, then the leftmost split)."""
     n = len(ids)
-    best = (np.inf, None)
+    best: tuple[float, np.ndarray | None] = (np.inf, None)
     for axis in range(3):
         order = np.lexsort((ids, lo[:, axis] + hi[:, axis]))
         a_lo = np.minimum.accumulate(lo[order], axis=0)[:-1]
@@ -54,6 +57,7 @@ def _split(lo: np.ndarray, hi: np.ndarray, ids: np.ndarray) -> np.ndarray:
             left = np.zeros(n, dtype=bool)
             left[order[: i + 1]] = True
             best = (cost[i], left)
+    assert best[1] is not None  # two leaves or more: some split costs < inf
     return best[1]
 
 

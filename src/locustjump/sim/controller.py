@@ -27,7 +27,7 @@ from typing import Any, Literal, NamedTuple, Protocol, runtime_checkable
 import numpy as np
 
 from locustjump.sim.actuation import MAX_DELTA, N_ACTUATORS
-from locustjump.sim.kernels import OUTPUTS, soa
+from locustjump.sim.kernels import OUTPUTS, Net, soa
 from locustjump.sim.sensors import N_INPUTS
 
 
@@ -51,6 +51,22 @@ class Controller(Protocol):
         targets: np.ndarray,
         step: int,
     ) -> tuple[np.ndarray, np.ndarray]: ...
+
+
+#: A controller's compiled form (:mod:`locustjump.sim.kernels`): ``("mlp",
+#: net, output code)`` for one network per episode (:func:`~.kernels.mlp`) or
+#: ``("switch", switcher, nets, every)`` for the composed switcher
+#: (:func:`~.kernels.switch`), networks episode-last
+KernelSpec = tuple[Literal["mlp"], Net, int] | tuple[Literal["switch"], Net, Net, int]
+
+
+@runtime_checkable
+class CompiledController(Controller, Protocol):
+    """A controller the compiled engine paths can step without Python: it
+    offers its networks as a :data:`KernelSpec` (``MLP``, the composed
+    switcher); any other controller runs its own ``act``."""
+
+    def kernel(self, prepared: Any) -> KernelSpec: ...
 
 
 class MLPWeights(NamedTuple):
@@ -127,7 +143,7 @@ class MLP:
         hidden = np.matmul(weights.w1, obs[:, :, None])[:, :, 0]
         hidden += weights.b1
         np.tanh(hidden, out=hidden)
-        out = np.matmul(weights.w2, hidden[:, :, None])[:, :, 0]
+        out: np.ndarray = np.matmul(weights.w2, hidden[:, :, None])[:, :, 0]
         out += weights.b2
         if self.output == "delta":
             np.tanh(out, out=out)
@@ -149,7 +165,7 @@ class MLP:
     ) -> tuple[np.ndarray, np.ndarray]:
         return self.apply(prepared, obs), memory
 
-    def kernel(self, prepared: MLPWeights) -> tuple:
+    def kernel(self, prepared: MLPWeights) -> KernelSpec:
         """The compiled path's form of ``act`` (:mod:`locustjump.sim.kernels`):
         the weights episode-last and the output code."""
         return ("mlp", tuple(soa(w) for w in prepared), OUTPUTS[self.output])

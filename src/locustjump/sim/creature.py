@@ -29,6 +29,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from locustjump.sim import names
 from locustjump.sim.params import LocustParams
@@ -72,9 +73,10 @@ def _fmt(*values: float) -> str:
     return " ".join(f"{v:.9g}" for v in values)
 
 
-def _unit(v: tuple[float, float, float]) -> np.ndarray:
+def _unit(v: ArrayLike) -> NDArray[np.float64]:
     a = np.asarray(v, float)
-    return a / np.linalg.norm(a)
+    unit: NDArray[np.float64] = a / np.linalg.norm(a)
+    return unit
 
 
 def leg_tip(p: LocustParams, hip_deg: float, knee_deg: float) -> np.ndarray:
@@ -89,10 +91,17 @@ def leg_tip(p: LocustParams, hip_deg: float, knee_deg: float) -> np.ndarray:
 def standing_height(p: LocustParams) -> float:
     """(m) body-centre height when standing level on the tarsi at phi."""
     _, tz = leg_tip(p, p.ready_hip, p.ready_knee)
-    return -(p.hip_pos[2] * p.scale + tz) + p.tarsus_radius * p.scale
+    height: float = -(p.hip_pos[2] * p.scale + tz) + p.tarsus_radius * p.scale
+    return height
 
 
-def _strut(p: LocustParams, nm: str, sign: float, attach, direction) -> str:
+def _strut(
+    p: LocustParams,
+    nm: str,
+    sign: float,
+    attach: tuple[float, float, float],
+    direction: tuple[float, float, float],
+) -> str:
     s = p.scale
     a = np.array(attach) * s * np.array([1, sign, 1])
     d = _unit(direction) * np.array([1, sign, 1])

@@ -30,12 +30,21 @@ from typing import NamedTuple
 
 import numpy as np
 from numba import njit
+from numpy.typing import NDArray
 
 # Numba caches the machine code of these kernels keyed on this file alone, and
 # a global a kernel reads is frozen into that code: so every value a kernel
 # reads is defined here, never imported (tests/test_incallback.py checks it).
 # actuation.py takes the rule's limit from here.
 MAX_DELTA = np.radians(10.0)  # (rad) largest target change per control step
+
+#: the kernels' array types (annotations only: Numba types a kernel from its
+#: arguments): float64, index (intp) and flag arrays; one network's ``w1, b1,
+#: w2, b2``, episode-last
+F64 = NDArray[np.float64]
+Index = NDArray[np.intp]
+Flags = NDArray[np.bool_]
+Net = tuple[F64, ...]
 
 # output squashing codes (MLP.output)
 DELTA, SIGMOID, LINEAR = 0, 1, 2
@@ -78,7 +87,8 @@ def _exp_parts(x: float) -> tuple[float, float]:
 def exp(x: float) -> float:
     """e^x (x clamped to [-700, 700]), Cephes' algorithm, branch-free."""
     px, y = _exp_parts(min(max(x, _EXP_LO), _EXP_HI))
-    return y * _POW2[int(px) + _POW2_BIAS]
+    e: float = y * _POW2[int(px) + _POW2_BIAS]
+    return e
 
 
 @njit(cache=True, inline="always", error_model="numpy")
@@ -114,7 +124,7 @@ def tanh(x: float) -> float:
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def _layer_sum(w, k, x, out):
+def _layer_sum(w: F64, k: int, x: F64, out: F64) -> None:
     """``out[k, e] = sum_j w[k, j, e] * x[j, e]``, summed in input order."""
     for e in range(x.shape[1]):
         out[k, e] = w[k, 0, e] * x[0, e]
@@ -124,7 +134,9 @@ def _layer_sum(w, k, x, out):
 
 
 @njit(cache=True, error_model="numpy")
-def mlp(w1, b1, w2, b2, x, out, hidden, output):
+def mlp(
+    w1: F64, b1: F64, w2: F64, b2: F64, x: F64, out: F64, hidden: F64, output: int
+) -> None:
     """One network per episode, episode-last: ``w1 (h, i, n)``, ``b1 (h, n)``,
     ``w2 (o, h, n)``, ``b2 (o, n)``, inputs ``x (i, n)``; writes ``out (o, n)``
     (``hidden (h, n)`` is scratch)."""
@@ -147,7 +159,18 @@ def mlp(w1, b1, w2, b2, x, out, hidden, output):
 
 
 @njit(cache=True, error_model="numpy")
-def switch(t, every, sw, nets, memory, x, out, choice, scratch, hidden):
+def switch(
+    t: int,
+    every: int,
+    sw: Net,
+    nets: Net,
+    memory: F64,
+    x: F64,
+    out: F64,
+    choice: F64,
+    scratch: F64,
+    hidden: F64,
+) -> None:
     """The composed switcher: every ``every`` steps the switcher network ``sw``
     (sigmoid outputs) picks, per episode, the simple network with the largest
     output (the first on ties, as ``np.argmax``) into ``memory[:, 0]``; each
@@ -172,7 +195,15 @@ def switch(t, every, sw, nets, memory, x, out, choice, scratch, hidden):
 
 
 @njit(cache=True, error_model="numpy")
-def sense_and_check(sub, ids, sens, qpos, warning, unstable, newly) -> int:
+def sense_and_check(
+    sub: F64,
+    ids: Index,
+    sens: F64,
+    qpos: F64,
+    warning: NDArray[np.int32],
+    unstable: Flags,
+    newly: Flags,
+) -> int:
     """Per-substep sensordata ``sub (len(ids), substeps, ns)`` of simulations
     ``ids`` reduced to their maximum into ``sens``; flags in ``newly`` the
     episodes not yet ``unstable`` whose warning counters (``warning (n,
@@ -199,7 +230,9 @@ def sense_and_check(sub, ids, sens, qpos, warning, unstable, newly) -> int:
 
 
 @njit(cache=True, error_model="numpy")
-def observe(qpos, sens, joints, touch, body_length, obs):
+def observe(
+    qpos: F64, sens: F64, joints: Index, touch: Index, body_length: float, obs: F64
+) -> None:
     """The 9 paper inputs, episode-last ``obs (9, n)``: the arithmetic of
     :func:`locustjump.sim.sensors.paper_inputs`, operation for operation."""
     for e in range(qpos.shape[0]):
@@ -218,7 +251,19 @@ def observe(qpos, sens, joints, touch, body_length, obs):
 
 
 @njit(cache=True, error_model="numpy")
-def record(t, qpos, obs, ctrl, memory, rq, ro, rc, rm, stopped, any_stopped):
+def record(
+    t: int,
+    qpos: F64,
+    obs: F64,
+    ctrl: F64,
+    memory: F64,
+    rq: F64,
+    ro: F64,
+    rc: F64,
+    rm: F64,
+    stopped: Flags,
+    any_stopped: bool,
+) -> None:
     """Row ``t`` of the records ``rq, ro, rc, rm`` (an empty array: not
     recorded); episodes ``stopped`` repeat row ``t - 1``."""
     for e in range(qpos.shape[0]):
@@ -245,7 +290,9 @@ def record(t, qpos, obs, ctrl, memory, rq, ro, rc, rm, stopped, any_stopped):
 
 
 @njit(cache=True, error_model="numpy")
-def actuate(ctrl, deltas, lo, hi, unstable, any_unstable):
+def actuate(
+    ctrl: F64, deltas: F64, lo: F64, hi: F64, unstable: Flags, any_unstable: bool
+) -> None:
     """``ctrl = clip(ctrl + clip(deltas, +-10 deg), range)`` for the episodes
     still running (the arithmetic of :func:`locustjump.sim.actuation.apply_deltas`);
     ``deltas`` is episode-last ``(4, n)``."""
@@ -257,7 +304,7 @@ def actuate(ctrl, deltas, lo, hi, unstable, any_unstable):
             ctrl[e, k] = min(max(step, lo[k]), hi[k])
 
 
-def soa(a: np.ndarray) -> np.ndarray:
+def soa(a: np.ndarray) -> F64:
     """An (n, ...) per-episode array as a contiguous (..., n) one."""
     return np.ascontiguousarray(np.moveaxis(np.asarray(a, dtype=np.float64), 0, -1))
 
@@ -299,7 +346,7 @@ class MLPAct(NamedTuple):
     ``output`` code, the outputs ``deltas (4, n)``, scratch ``hidden (h, n)``,
     the servo ranges ``lo``/``hi (nu,)``."""
 
-    net: tuple
+    net: Net
     output: int
     deltas: np.ndarray
     hidden: np.ndarray
@@ -313,8 +360,8 @@ class SwitchAct(NamedTuple):
     ``hidden (h, n)``; as :class:`MLPAct` otherwise."""
 
     every: int
-    sw: tuple
-    nets: tuple
+    sw: Net
+    nets: Net
     deltas: np.ndarray
     choice: np.ndarray
     scratch: np.ndarray
@@ -324,7 +371,9 @@ class SwitchAct(NamedTuple):
 
 
 @njit(cache=True, error_model="numpy")
-def post_step(t, check, sub, ids, stopped, r):
+def post_step(
+    t: int, check: bool, sub: F64, ids: Index, stopped: bool, r: Rollout
+) -> int:
     """After the physics of control step ``t - 1`` (``t == 0``: the start
     state, no ``sub``) of rollout ``r``: reduce the touch sensors of
     simulations ``ids`` and check (``check``; returns the number of newly
@@ -344,7 +393,16 @@ def post_step(t, check, sub, ids, stopped, r):
 
 
 @njit(cache=True, error_model="numpy")
-def step_mlp(t, check, sub, ids, stopped, act, r, a):
+def step_mlp(
+    t: int,
+    check: bool,
+    sub: F64,
+    ids: Index,
+    stopped: bool,
+    act: bool,
+    r: Rollout,
+    a: MLPAct,
+) -> int:
     """:func:`post_step`, then (``act``, when no episode newly failed) one
     network per episode and the actuation rule (``a``: :class:`MLPAct`):
     everything between two physics calls in one call."""
@@ -357,7 +415,16 @@ def step_mlp(t, check, sub, ids, stopped, act, r, a):
 
 
 @njit(cache=True, error_model="numpy")
-def step_switch(t, check, sub, ids, stopped, act, r, a):
+def step_switch(
+    t: int,
+    check: bool,
+    sub: F64,
+    ids: Index,
+    stopped: bool,
+    act: bool,
+    r: Rollout,
+    a: SwitchAct,
+) -> int:
     """:func:`step_mlp` for the composed switcher (``a``: :class:`SwitchAct`)."""
     count = post_step(t, check, sub, ids, stopped, r)
     if count == 0 and act:

@@ -30,12 +30,10 @@ from locustjump.sim.creature import (  # noqa: F401 (re-exported)
     CONTACT_GEOMS,
     creature_mjcf,
     leg_tip,
-    standing_height,
 )
-from locustjump.sim.params import (  # noqa: F401 (re-exported)
-    CONTROL_DT,
-    LocustParams,
-)
+from locustjump.sim.creature import standing_height as standing_height
+from locustjump.sim.params import CONTROL_DT as CONTROL_DT
+from locustjump.sim.params import LocustParams as LocustParams
 from locustjump.sim.scene import Flat, Scene
 
 #: MuJoCo's warnings (an unstable simulation: the engine stops that episode

@@ -7,6 +7,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -172,7 +173,7 @@ class LocustParams:
             2 * self.body_half_length + self.body_radius + 2 * self.head_radius
         ) * self.scale
 
-    def replace(self, **changes: object) -> LocustParams:
+    def replace(self, **changes: Any) -> LocustParams:
         """A copy with some fields changed (validated again)."""
         return dataclasses.replace(self, **changes)
 

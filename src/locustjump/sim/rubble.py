@@ -23,7 +23,7 @@ def boxes(d: Any) -> np.ndarray:
     """The boxes of terrain ``d`` in body lengths (yaw in radians)."""
     rng = np.random.default_rng(d.seed)
     n = d.count
-    out = np.empty((n, 6))
+    out: np.ndarray = np.empty((n, 6))
     out[:, 0] = rng.uniform(-d.behind, d.length, n)
     out[:, 1] = rng.uniform(-d.width / 2, d.width / 2, n)
     out[:, 2] = rng.uniform(0.0, math.pi / 2, n)

@@ -77,7 +77,8 @@ class Scene(ABC):
         ``seed`` field has one terrain: itself)."""
         if "seed" not in {f.name for f in dataclasses.fields(self)}:
             return self
-        return dataclasses.replace(self, seed=seed)
+        # a subclass's field, which Scene itself does not declare
+        return dataclasses.replace(self, seed=seed)  # type: ignore[call-arg]
 
 
 @dataclass(frozen=True)
@@ -246,7 +247,8 @@ class Debris(Flat):
         """(n, 6): centre x, y, yaw (rad), side x, side y, height (m) of the
         boxes (``count`` drawn, those reaching into the clearing left out)."""
         scale = np.array([body_length] * 2 + [1.0] + [body_length] * 3)
-        return rubble.boxes(self) * scale
+        boxes: np.ndarray = rubble.boxes(self) * scale
+        return boxes
 
     def walls(self, body_length: float) -> np.ndarray:
         """(n, 4): centre x, y and sides x, y (m) of the walls around the
@@ -404,6 +406,11 @@ class Terrains:
 
     def combine(self, fitness: np.ndarray) -> np.ndarray:
         """``fitness (count, n)`` on each terrain as one ``(n,)``."""
+        one: np.ndarray
         if len(fitness) == 1:
-            return fitness[0]
-        return fitness.min(axis=0) if self.aggregate == "min" else fitness.mean(axis=0)
+            one = fitness[0]
+        elif self.aggregate == "min":
+            one = fitness.min(axis=0)
+        else:
+            one = fitness.mean(axis=0)
+        return one

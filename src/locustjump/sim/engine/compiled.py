@@ -16,6 +16,7 @@ from mujoco.batch import Batch
 
 from locustjump.sim import actuation, sensors
 from locustjump.sim import model as lm
+from locustjump.sim.controller import CompiledController
 from locustjump.sim.engine.job import (
     STEP_RECORDS,
     UNSTABLE,
@@ -68,15 +69,16 @@ class CompiledStep:
             records=records,
         )
         self.ctl, self.prepared = ctl, ctl.prepare(job.params)
-        spec = ctl.kernel(self.prepared) if hasattr(ctl, "kernel") else None
-        self.kind = None if spec is None else spec[0]
+        spec = (
+            ctl.kernel(self.prepared) if isinstance(ctl, CompiledController) else None
+        )
         self.deltas = np.empty((actuation.N_ACTUATORS, n))
         self.act: MLPAct | SwitchAct | None = None
-        if self.kind == "mlp":
+        if spec is not None and spec[0] == "mlp":
             _, net, output = spec
             hidden = np.empty((net[0].shape[0], n))
             self.act = MLPAct(net, output, self.deltas, hidden, self.lo, self.hi)
-        elif self.kind == "switch":
+        elif spec is not None and spec[0] == "switch":
             _, sw, nets, every = spec
             h = max(sw[0].shape[0], nets[0].shape[1])
             self.act = SwitchAct(
@@ -91,12 +93,20 @@ class CompiledStep:
                 hi=self.hi,
             )
 
-    def __call__(self, t, check, sub, ids, stopped, act) -> int:
-        r = self.rollout
-        if self.kind == "mlp":
-            return step_mlp(t, check, sub, ids, stopped, act, r, self.act)
-        if self.kind == "switch":
-            return step_switch(t, check, sub, ids, stopped, act, r, self.act)
+    def __call__(
+        self,
+        t: int,
+        check: bool,
+        sub: np.ndarray,
+        ids: np.ndarray,
+        stopped: bool,
+        act: bool,
+    ) -> int:
+        r, a = self.rollout, self.act
+        if isinstance(a, MLPAct):
+            return step_mlp(t, check, sub, ids, stopped, act, r, a)
+        if isinstance(a, SwitchAct):
+            return step_switch(t, check, sub, ids, stopped, act, r, a)
         failed = post_step(t, check, sub, ids, stopped, r)
         if not failed and act:
             d, mem = self.ctl.act(self.prepared, self.memory, r.obs.T, self.ctrl, t)

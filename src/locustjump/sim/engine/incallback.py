@@ -38,16 +38,20 @@ from __future__ import annotations
 import hashlib
 import threading
 import warnings
+from collections.abc import Callable
 from dataclasses import replace
+from typing import Any, cast
 
 import mujoco
 import numpy as np
 from mujoco.batch import Batch, SimulationError
 from numba import carray, cfunc, njit, types
 from numba.extending import intrinsic
+from numpy.typing import NDArray
 
 from locustjump.sim import kernels as K
 from locustjump.sim import model as lm
+from locustjump.sim.controller import CompiledController, KernelSpec
 from locustjump.sim.engine import mjlayout
 from locustjump.sim.engine.compiled import CompiledStep, run_compiled
 from locustjump.sim.engine.job import (
@@ -73,7 +77,7 @@ _OFF_QPOS, _OFF_CTRL, _OFF_SENS, _OFF_USER, _OFF_WARN, _OFF_NUSER = OFFSETS
 #: SHA-256 of kernels.py, whose functions the cached compiled code below calls:
 #: Numba's cache notices changes to this file only, so a change there must
 #: change this line too (``tests/test_incallback.py`` says so, with the digest)
-KERNELS_SHA256 = "e0a0ee1594a5cbf784b0765ffc60696c6e43fa9628fb50f95bb872795de90b58"
+KERNELS_SHA256 = "c527a0a66140b4ce940f0b864c8e51d3bf046ab00dee789d0863d37789d51a13"
 
 
 def kernels_digest() -> str:
@@ -96,28 +100,32 @@ if not AVAILABLE:
 _NWARNING = int(mujoco.mjtWarning.mjNWARNING)
 
 
-@intrinsic
-def _address(typingctx, ptr):
+def _address_of(typingctx: Any, ptr: Any) -> Any:
     """The address of a raw pointer, as an int64."""
     if not isinstance(ptr, types.RawPointer):
         return None
 
-    def codegen(context, builder, sig, args):
+    def codegen(context: Any, builder: Any, sig: Any, args: Any) -> Any:
         return builder.ptrtoint(args[0], context.get_value_type(types.int64))
 
     return types.int64(ptr), codegen
 
 
-@intrinsic
-def _pointer(typingctx, addr):
+def _pointer_to(typingctx: Any, addr: Any) -> Any:
     """An int64 address as a void pointer."""
     if not isinstance(addr, types.Integer):
         return None
 
-    def codegen(context, builder, sig, args):
+    def codegen(context: Any, builder: Any, sig: Any, args: Any) -> Any:
         return builder.inttoptr(args[0], context.get_value_type(types.voidptr))
 
     return types.voidptr(addr), codegen
+
+
+# Compiled code calls an intrinsic without its typing context, the argument
+# Numba's stubs count first: the casts give the calls' own types
+_address = cast("Callable[[Any], int]", intrinsic(_address_of))
+_pointer = cast("Callable[[Int], Any]", intrinsic(_pointer_to))
 
 
 # --- the rollout's context: one int64 array of sizes and addresses ---------------
@@ -133,47 +141,53 @@ def _pointer(typingctx, addr):
 _NET, _NET_ARRAYS = 30, 8
 _LEN = _NET + 6 * _NET_ARRAYS
 _MLP, _SWITCH = 1, 2
+#: the context's type; its sizes and addresses, as compiled code reads them
+Ctx = NDArray[np.int64]
+Int = int | np.int64
 
 
 @njit(inline="always")
-def _f64(addr, shape):
+def _f64(addr: Int, shape: Any) -> K.F64:
     return carray(_pointer(addr), shape, np.float64)
 
 
 @njit(inline="always")
-def _i64(addr, shape):
+def _i64(addr: Int, shape: Any) -> Ctx:
     return carray(_pointer(addr), shape, np.int64)
 
 
 @njit(inline="always")
-def _net3(ctx, k, e):
+def _net3(ctx: Ctx, k: int, e: Int) -> K.F64:
     """Net array ``k`` of the context, episode ``e``'s (2-D) slice."""
     a = _NET + 6 * k
-    return _f64(ctx[a], (ctx[a + 1], ctx[a + 2], ctx[a + 3]))[e]
+    net: K.F64 = _f64(ctx[a], (ctx[a + 1], ctx[a + 2], ctx[a + 3]))[e]
+    return net
 
 
 @njit(inline="always")
-def _net4(ctx, k, e):
+def _net4(ctx: Ctx, k: int, e: Int) -> K.F64:
     a = _NET + 6 * k
-    return _f64(ctx[a], (ctx[a + 1], ctx[a + 2], ctx[a + 3], ctx[a + 4]))[e]
+    net: K.F64 = _f64(ctx[a], (ctx[a + 1], ctx[a + 2], ctx[a + 3], ctx[a + 4]))[e]
+    return net
 
 
 @njit(inline="always")
-def _net5(ctx, k, e):
+def _net5(ctx: Ctx, k: int, e: Int) -> K.F64:
     a = _NET + 6 * k
     shape = (ctx[a + 1], ctx[a + 2], ctx[a + 3], ctx[a + 4], ctx[a + 5])
-    return _f64(ctx[a], shape)[e]
+    net: K.F64 = _f64(ctx[a], shape)[e]
+    return net
 
 
 @njit(inline="always")
-def _records(addr, n, T, k, e):
+def _records(addr: Int, n: Int, T: Int, k: Int, e: Int) -> K.F64:
     if addr == 0:
         return np.empty((0, 0, 0))
     return _f64(addr, (n, T + 1, k))[e : e + 1]
 
 
 @njit(cache=True, error_model="numpy")
-def _episode(ctx, e, t, qpos, ctrl):
+def _episode(ctx: Ctx, e: Int, t: int, qpos: K.F64, ctrl: K.F64) -> None:
     """Control step ``t`` of episode ``e``: observe the state the previous
     control step left, record row ``t``, run the network, actuate."""
     n, T, nq, nu, nmem = ctx[_N], ctx[_T], ctx[_NQ], ctx[_NU], ctx[_NMEM]
@@ -209,13 +223,14 @@ def _episode(ctx, e, t, qpos, ctrl):
 
 
 @njit(inline="always")
-def _field(base, offset):
+def _field(base: int, offset: int) -> int:
     """The int64 (a pointer or an mjtSize) at ``base + offset``."""
-    return _i64(base + offset, 1)[0]
+    value: int = _i64(base + offset, 1)[0]
+    return value
 
 
 @cfunc(types.void(types.voidptr, types.voidptr), cache=True, error_model="numpy")
-def _control(m, d):
+def _control(m: Any, d: Any) -> None:
     """``mjcb_control``: a substep of one simulation (see the module's doc)."""
     if _field(_address(m), _OFF_NUSER) < NUSERDATA:
         return
@@ -266,7 +281,7 @@ def run_incallback(batch: Batch, job: RolloutJob) -> RolloutResult:
     if (
         not AVAILABLE
         or batch.model.nuserdata < NUSERDATA
-        or not hasattr(ctl, "kernel")
+        or not isinstance(ctl, CompiledController)
         or records_contacts(job)
     ):
         return run_compiled(batch, job)
@@ -275,7 +290,7 @@ def run_incallback(batch: Batch, job: RolloutJob) -> RolloutResult:
     rec, qpos = step.recorder.arrays, batch.bind("qpos")
     no_sub = np.empty((0, S, m.nsensordata))
     # keep: every array ctx points into, alive until this function returns
-    ctx, tmax, keep = _context(batch, job, step, rec)
+    ctx, tmax, keep = _context(batch, job, step, rec, ctl.kernel(step.prepared))
     user = batch.bind("userdata")
     user[:, 0] = USERDATA_MARK
     user[:, 1] = float(ctx.ctypes.data)
@@ -309,12 +324,18 @@ def run_incallback(batch: Batch, job: RolloutJob) -> RolloutResult:
     return result
 
 
-def _context(batch: Batch, job: RolloutJob, step: CompiledStep, rec: dict) -> tuple:
+def _context(
+    batch: Batch,
+    job: RolloutJob,
+    step: CompiledStep,
+    rec: dict[str, np.ndarray],
+    spec: KernelSpec,
+) -> tuple[Ctx, K.F64, object]:
     """The context array the callback reads, the touch maxima it keeps, and
-    every array it points into (which must outlive the rollout)."""
+    every array it points into (which must outlive the rollout), for the
+    controller's compiled form ``spec``."""
     m, ctl, n = batch.model, job.controller, job.n_episodes
     idx = lm.ModelIndex.of(m)
-    spec = ctl.kernel(step.prepared)
     nets = spec[1] + (spec[2] if spec[0] == "switch" else ())
     per_episode = [np.ascontiguousarray(np.moveaxis(a, -1, 0)[..., None]) for a in nets]
     # the switched networks, when every episode holds the same: one copy
@@ -363,7 +384,7 @@ class _installed:
         self.ok = True
         return True
 
-    def __exit__(self, *exc) -> None:
+    def __exit__(self, *exc: object) -> None:
         global _users
         if not self.ok:
             return

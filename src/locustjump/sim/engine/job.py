@@ -8,9 +8,11 @@ from __future__ import annotations
 import functools
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from typing import Any, cast, overload
 
 import mujoco
 import numpy as np
+from numpy.typing import NDArray
 from tqdm.auto import tqdm
 
 from locustjump.sim import actuation, sensors
@@ -63,7 +65,7 @@ def went_unstable(
     counts = warnings[:, UNSTABLE]
     if errors is None and not counts.any() and np.isfinite(qpos).all():
         return np.zeros(qpos.shape[0], bool)  # one reduction each, nearly always
-    bad = (counts > 0).any(axis=1) | ~np.isfinite(qpos).all(axis=1)
+    bad: np.ndarray = (counts > 0).any(axis=1) | ~np.isfinite(qpos).all(axis=1)
     if errors is not None:
         bad[errors] = True
     return bad
@@ -83,9 +85,9 @@ class StartStates:
             raise ValueError("StartStates arrays must have the same first dimension")
 
     def __len__(self) -> int:
-        return self.qpos.shape[0]
+        return int(self.qpos.shape[0])
 
-    def take(self, idx: np.ndarray | Sequence[int]) -> StartStates:
+    def take(self, idx: np.ndarray | Sequence[int] | slice) -> StartStates:
         return StartStates(self.qpos[idx], self.qvel[idx], self.ctrl[idx])
 
     @classmethod
@@ -143,7 +145,7 @@ class RolloutJob:
 
     @property
     def n_episodes(self) -> int:
-        return self.params.shape[0]
+        return int(self.params.shape[0])
 
     def split(self, k: int) -> list[RolloutJob]:
         """At most ``k`` contiguous sub-jobs covering all episodes, in order."""
@@ -240,7 +242,8 @@ def rollout_bytes(
     dims = record_shapes(m.nq, nmem)
     per_step = sum(int(np.prod(dims[k])) for k in record) * 8.0
     per_episode = (n_steps + 1) * per_step + m.narena + 64 * 1024
-    return float(n) * per_episode
+    total: float = float(n) * per_episode
+    return total
 
 
 def record_shapes(nq: int, nmem: int) -> dict[str, tuple[int, ...]]:
@@ -254,7 +257,11 @@ def records_contacts(job: RolloutJob) -> bool:
     return not set(job.record).isdisjoint(CONTACT_RECORDS)
 
 
-def depth(min_dist: np.ndarray) -> np.ndarray:
+@overload
+def depth(min_dist: float) -> np.float64: ...
+@overload
+def depth(min_dist: np.ndarray) -> NDArray[np.float64]: ...
+def depth(min_dist: float | np.ndarray) -> np.float64 | NDArray[np.float64]:
     """Penetration (m, >= 0) of a smallest signed contact distance (m)."""
     return np.maximum(-np.asarray(min_dist, dtype=np.float64), 0.0)
 
@@ -267,10 +274,10 @@ def contact_maxima(
     (:data:`CONTACT_RECORDS`)."""
     pen = depth(sub[:, :, idx.deepest].min(axis=1))
     wall = (sub[:, :, idx.walls] > 0).any(axis=(1, 2)).astype(np.float64)
-    return pen, wall
+    return pen, cast(np.ndarray, wall)  # (k,): any() over two of sub's three axes
 
 
-def progress(job: RolloutJob):
+def progress(job: RolloutJob) -> tqdm[Any] | None:
     """A progress bar over the control steps of a labelled job (shown on a
     terminal only)."""
     if not job.label:
@@ -290,7 +297,9 @@ class Recorder:
     :meth:`write_contacts`.
     """
 
-    def __init__(self, names: Sequence[str], n: int, T: int, shape: dict):
+    def __init__(
+        self, names: Sequence[str], n: int, T: int, shape: dict[str, tuple[int, ...]]
+    ):
         self.arrays = {k: np.empty((n, T + 1, *shape[k])) for k in names}
         step = [k for k in names if k in STEP_RECORDS]
         self._order = tuple(STEP_RECORDS.index(k) for k in step)
@@ -302,7 +311,15 @@ class Recorder:
         shapes = record_shapes(nq, job.controller.memory_size)
         return cls(job.record, job.n_episodes, job.n_steps, shapes)
 
-    def write(self, t, qpos, obs, ctrl, memory, stopped=None) -> None:
+    def write(
+        self,
+        t: int,
+        qpos: np.ndarray,
+        obs: np.ndarray,
+        ctrl: np.ndarray,
+        memory: np.ndarray,
+        stopped: np.ndarray | None = None,
+    ) -> None:
         """Row ``t``; episodes flagged in ``stopped`` repeat row ``t - 1``."""
         src = (qpos, obs, ctrl, memory)
         for i, a in zip(self._order, self._step, strict=True):
@@ -313,9 +330,9 @@ class Recorder:
     def write_contacts(
         self,
         t: int,
-        ids: np.ndarray,
-        penetration: np.ndarray,
-        wall: np.ndarray,
+        ids: np.ndarray | int,
+        penetration: np.ndarray | float,
+        wall: np.ndarray | float,
         stopped: np.ndarray | None = None,
     ) -> None:
         """Row ``t`` of :data:`CONTACT_RECORDS` for episodes ``ids``; episodes

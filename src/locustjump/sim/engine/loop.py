@@ -39,7 +39,7 @@ fitness.
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Protocol
+from typing import Protocol, TypeVar
 
 import mujoco
 import numpy as np
@@ -98,9 +98,12 @@ class ControlStep(Protocol):
 
 #: builds a :class:`ControlStep`: ``make(batch, job, sens)``
 StepMaker = Callable[[Batch, RolloutJob, np.ndarray], ControlStep]
+Step = TypeVar("Step", bound=ControlStep)
 
 
-def begin(batch: Batch, job: RolloutJob, make: StepMaker) -> ControlStep:
+def begin(
+    batch: Batch, job: RolloutJob, make: Callable[[Batch, RolloutJob, np.ndarray], Step]
+) -> Step:
     """Every simulation of ``batch`` at its start state, the control step
     built, row 0 recorded and the first action applied."""
     m = batch.model

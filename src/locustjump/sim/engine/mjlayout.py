@@ -6,6 +6,7 @@ against a live model and data."""
 from __future__ import annotations
 
 import ctypes
+from typing import Any
 
 import mujoco
 from mujoco.introspect import ast_nodes, structs
@@ -29,7 +30,7 @@ def _struct(name: str, *upto: str) -> type[ctypes.Structure]:
     return type(name, (ctypes.Structure,), {"_fields_": fields})
 
 
-def _ctype(t, ast_nodes):
+def _ctype(t: Any, ast_nodes: Any) -> Any:  # a ctypes type
     if isinstance(t, ast_nodes.PointerType):
         return ctypes.c_void_p
     if isinstance(t, ast_nodes.ArrayType):

@@ -46,7 +46,15 @@ class NumpyStep:
         self.unstable = np.zeros(n, bool)
         self.newly = np.zeros(n, bool)
 
-    def __call__(self, t, check, sub, ids, stopped, act) -> int:
+    def __call__(
+        self,
+        t: int,
+        check: bool,
+        sub: np.ndarray,
+        ids: np.ndarray,
+        stopped: bool,
+        act: bool,
+    ) -> int:
         if check:
             if len(sub) and stopped:
                 self.sens[ids] = sub.max(axis=1)

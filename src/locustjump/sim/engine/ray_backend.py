@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import os
 import socket
+from types import ModuleType
 from typing import Any
 
 from locustjump.errors import UserError
@@ -28,7 +29,7 @@ from locustjump.sim.engine.threads import ThreadBackend
 CONNECT_TIMEOUT = 5.0
 
 
-def _ray():
+def _ray() -> ModuleType:
     try:
         import ray
     except ImportError:
@@ -67,7 +68,7 @@ class _Worker:
         return self.backend.run(job)
 
 
-def connect(address: str | None = None):
+def connect(address: str | None = None) -> ModuleType:
     """The ``ray`` module, connected: to this process's instance if it has one,
     else a new local one (``address=None``) or the cluster at ``address``."""
     ray = _ray()

@@ -51,6 +51,7 @@ class ThreadBackend:
         self._batches: dict[tuple[lm.LocustParams, Scene, int], Batch] | None = {}
 
     def _batch(self, p: lm.LocustParams, scene: Scene, n: int) -> Batch:
+        assert self._batches is not None  # run() refuses a closed backend
         key = (p, scene, n)
         if key not in self._batches:
             self._batches[key] = Batch(
