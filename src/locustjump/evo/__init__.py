@@ -56,7 +56,7 @@ def optimizer_kinds() -> tuple[str, ...]:
     return tuple(_REGISTRY)
 
 
-def params_class(kind: str) -> type:
+def params_class(kind: str) -> type[OptimizerParams]:
     """The settings dataclass of optimizer ``kind`` (``ValueError`` if unknown)."""
     try:
         return _REGISTRY[kind].Params

@@ -47,7 +47,9 @@ class OptimizerParams(Protocol):
     """Settings of an optimizer: a frozen dataclass (fields are the TOML keys)."""
 
     kind: ClassVar[str]
-    population: int
+
+    @property
+    def population(self) -> int: ...
 
     def replace(self, **changes: Any) -> OptimizerParams: ...
 
@@ -109,7 +111,10 @@ class Optimizer(ABC):
       seed: the run's seed; ``self.rng`` is ``numpy.random.default_rng(seed)``.
     """
 
-    Params: ClassVar[type]
+    Params: ClassVar[type[OptimizerParams]]
+    num_params: int
+    params: Any  # a Params; each optimizer names its own
+    seed: int
 
     def __init__(self, num_params: int, params: Any, seed: int = 0) -> None:
         if not isinstance(seed, numbers.Integral):

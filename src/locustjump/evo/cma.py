@@ -56,7 +56,7 @@ class CMAParams:
         return dataclasses.replace(self, **changes)
 
 
-def _import_cma():
+def _import_cma() -> Any:  # pycma: untyped
     try:
         import cma
     except ImportError:
@@ -74,7 +74,8 @@ class CMAES(Optimizer):
     updates its eigendecomposition every few generations; this is the last).
     """
 
-    Params: ClassVar[type] = CMAParams
+    Params: ClassVar[type[CMAParams]] = CMAParams
+    params: CMAParams
 
     def __init__(self, num_params: int, params: CMAParams = CMAParams(), seed: int = 0):
         super().__init__(num_params, params, seed)

@@ -39,7 +39,8 @@ class RandomSearchParams:
 class RandomSearch(Optimizer):
     """Ask/tell random search. Maximises; never stops on its own."""
 
-    Params: ClassVar[type] = RandomSearchParams
+    Params: ClassVar[type[RandomSearchParams]] = RandomSearchParams
+    params: RandomSearchParams
 
     def __init__(
         self,

@@ -40,6 +40,7 @@ from dataclasses import dataclass
 from typing import Any, ClassVar, Literal
 
 import numpy as np
+from numpy.typing import NDArray
 
 from locustjump.evo.base import Optimizer, rng_from_state, rng_state
 
@@ -48,6 +49,7 @@ MAX_GENE_SCALE = 1.0e6
 
 Crossover = Literal["blx", "sbx", "undx"]
 CROSSOVERS: tuple[str, ...] = ("blx", "sbx", "undx")
+F64 = NDArray[np.float64]
 
 
 @dataclass(frozen=True)
@@ -108,18 +110,14 @@ class RCGAParams:
 # --- operators: pure functions of (parents, rng) ------------------------------
 
 
-def blx_alpha(
-    a: np.ndarray, b: np.ndarray, alpha: float, rng: np.random.Generator
-) -> np.ndarray:
+def blx_alpha(a: F64, b: F64, alpha: float, rng: np.random.Generator) -> F64:
     """One BLX-alpha child per row of parents ``a``, ``b`` (n, P)."""
     lo, hi = np.minimum(a, b), np.maximum(a, b)
     d = hi - lo
     return rng.uniform(lo - alpha * d, hi + alpha * d)
 
 
-def sbx(
-    a: np.ndarray, b: np.ndarray, eta: float, rng: np.random.Generator
-) -> np.ndarray:
+def sbx(a: F64, b: F64, eta: float, rng: np.random.Generator) -> F64:
     """One simulated-binary-crossover child per row (unbounded SBX).
 
     The spread factor beta has density ~ beta^eta below 1 and beta^-(eta+2)
@@ -137,13 +135,13 @@ def sbx(
 
 
 def undx(
-    a: np.ndarray,
-    b: np.ndarray,
-    c: np.ndarray,
+    a: F64,
+    b: F64,
+    c: F64,
     sigma_xi: float,
     sigma_eta: float,
     rng: np.random.Generator,
-) -> np.ndarray:
+) -> F64:
     """Unimodal normal distribution crossover, one child per row.
 
     ``child = m + xi * (b - a) + eta``: ``m`` the midpoint of ``a`` and ``b``,
@@ -162,25 +160,28 @@ def undx(
     xi = rng.normal(0.0, sigma_xi, size=(n, 1))
     eta = rng.normal(0.0, 1.0, size=(n, P)) * (sigma_eta / np.sqrt(P) * D)[:, None]
     eta -= (np.einsum("ij,ij->i", eta, d) / safe)[:, None] * d
-    return m + xi * d + eta
+    child: F64 = m + xi * d + eta
+    return child
 
 
 def gaussian_mutation(
-    x: np.ndarray, rate: float, sigma: float, rng: np.random.Generator
-) -> np.ndarray:
+    x: F64, rate: float, sigma: float, rng: np.random.Generator
+) -> F64:
     """Each gene perturbed with probability ``rate`` by ``N(0, sigma^2)``."""
     mask = rng.random(x.shape) < rate
-    return x + mask * rng.normal(0.0, sigma, size=x.shape)
+    mutated: F64 = x + mask * rng.normal(0.0, sigma, size=x.shape)
+    return mutated
 
 
 def tournament(
-    fitness: np.ndarray, n: int, k: int, rng: np.random.Generator
-) -> np.ndarray:
+    fitness: F64, n: int, k: int, rng: np.random.Generator
+) -> NDArray[np.int64]:
     """Indices of the winners of ``n`` size-``k`` tournaments, entrants drawn
     with replacement; a tie goes to the first entrant drawn."""
     entrants = rng.integers(0, fitness.shape[0], size=(n, k))
     winner = np.argmax(fitness[entrants], axis=1)
-    return entrants[np.arange(n), winner]
+    winners: NDArray[np.int64] = entrants[np.arange(n), winner]
+    return winners
 
 
 # --- the algorithm ------------------------------------------------------------
@@ -206,7 +207,8 @@ class RCGA(Optimizer):
         ``seed``) is used as is; use ``seed``.
     """
 
-    Params: ClassVar[type] = RCGAParams
+    Params: ClassVar[type[RCGAParams]] = RCGAParams
+    params: RCGAParams
 
     def __init__(
         self,
@@ -262,7 +264,8 @@ class RCGA(Optimizer):
         fit = np.concatenate([self.fitness[:e], fitness])
         order = np.argsort(-fit, kind="stable")  # elites win ties: they come first
         self.population = pop[order]
-        return fit[order]
+        ranked: np.ndarray = fit[order]
+        return ranked
 
     # -- variation --
 
