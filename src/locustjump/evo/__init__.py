@@ -56,14 +56,12 @@ def optimizer_kinds() -> tuple[str, ...]:
     return tuple(_REGISTRY)
 
 
-def params_class(kind: str) -> type[OptimizerParams]:
-    """The settings dataclass of optimizer ``kind`` (``ValueError`` if unknown)."""
-    try:
+def params_class(kind: object) -> type[OptimizerParams]:
+    """The settings dataclass of optimizer ``kind`` (``ValueError`` if it
+    names none: ``TrainConfig`` passes the ``kind`` of whatever it is given)."""
+    if isinstance(kind, str) and kind in _REGISTRY:
         return _REGISTRY[kind].Params
-    except KeyError:
-        raise ValueError(
-            f"unknown optimizer {kind!r}; choose from {', '.join(_REGISTRY)}"
-        ) from None
+    raise ValueError(f"unknown optimizer {kind!r}; choose from {', '.join(_REGISTRY)}")
 
 
 def make_optimizer(params: Any, num_params: int, seed: int) -> Optimizer:

@@ -44,9 +44,12 @@ import numpy as np
 
 @runtime_checkable
 class OptimizerParams(Protocol):
-    """Settings of an optimizer: a frozen dataclass (fields are the TOML keys)."""
+    """Settings of an optimizer: a frozen dataclass (fields are the TOML keys),
+    made from its settings by name (``population`` among them)."""
 
     kind: ClassVar[str]
+
+    def __init__(self, *, population: int = ..., **settings: Any) -> None: ...
 
     @property
     def population(self) -> int: ...

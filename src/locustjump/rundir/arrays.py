@@ -11,16 +11,26 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from pathlib import Path
+from typing import Literal, overload
 
 import numpy as np
 
 from locustjump.errors import UserError
 
 _KINDS = {"f": "a float64 number", "i": "an integer", "U": "text", "b": "a boolean"}
+Arrays = Mapping[str, np.ndarray]
 
 
+@overload
+def scalar(z: Arrays, key: str, path: Path, kind: Literal["f"]) -> float: ...
+@overload
+def scalar(z: Arrays, key: str, path: Path, kind: Literal["i"]) -> int: ...
+@overload
+def scalar(z: Arrays, key: str, path: Path, kind: Literal["U"]) -> str: ...
+@overload
+def scalar(z: Arrays, key: str, path: Path, kind: Literal["b"]) -> bool: ...
 def scalar(
-    z: Mapping[str, np.ndarray], key: str, path: Path, kind: str
+    z: Arrays, key: str, path: Path, kind: Literal["f", "i", "U", "b"]
 ) -> float | int | str | bool:
     """``z[key]`` as a Python value: a 0-d array of ``kind`` (``"f"``:
     float64, finite; ``"i"``: any integer dtype; ``"U"``: text)."""
@@ -36,8 +46,8 @@ def scalar(
             f"{path}: {key} must be {_KINDS[kind]}, got a {a.dtype} array of "
             f"shape {a.shape}"
         )
-    value = a.item()
-    if kind == "f" and not math.isfinite(value):
+    value: float | int | str | bool = a.item()
+    if isinstance(value, float) and not math.isfinite(value):  # kind "f"
         raise UserError(f"{path}: {key} must be finite, got {value}")
     return value
 

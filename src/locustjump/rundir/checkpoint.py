@@ -11,6 +11,7 @@ import numpy as np
 
 from locustjump.errors import UserError
 from locustjump.rundir.arrays import genomes, plain, scalar
+from locustjump.rundir.config import TrainConfig
 from locustjump.rundir.files import save_npz
 from locustjump.rundir.layout import CONFIG, FORMAT
 from locustjump.rundir.migrations import (
@@ -34,7 +35,11 @@ _CHECKPOINT_KEYS = (
 
 
 def write_checkpoint(
-    path: Path, cfg, best: BestGenome, metrics_row: str, state: dict[str, np.ndarray]
+    path: Path,
+    cfg: TrainConfig,
+    best: BestGenome,
+    metrics_row: str,
+    state: dict[str, np.ndarray],
 ) -> None:
     """The optimizer's ``state`` plus the run's best genome and the metrics row
     of the checkpointed generation (a kill between two writes loses nothing)."""
@@ -52,7 +57,9 @@ def write_checkpoint(
     )
 
 
-def read_checkpoint(path: Path, cfg, num_params: int):
+def read_checkpoint(
+    path: Path, cfg: TrainConfig, num_params: int
+) -> tuple[BestGenome, str, dict[str, np.ndarray]]:
     """``(best, metrics_row, state)`` of ``checkpoint.npz``, checked against the
     configuration ``cfg`` (``UserError`` naming the file): every array of the
     dtype and shape written, finite, of this run, the best genome and the

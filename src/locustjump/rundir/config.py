@@ -31,8 +31,9 @@ from __future__ import annotations
 import dataclasses
 import hashlib
 import json
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, TypeVar
 
 from locustjump.errors import UserError
 from locustjump.evo import RCGAParams, params_class
@@ -100,7 +101,8 @@ class TrainConfig:
 
     @property
     def population(self) -> int:
-        return self.optimizer.population
+        population: int = self.optimizer.population
+        return population
 
     def replace(self, **changes: Any) -> TrainConfig:
         return dataclasses.replace(self, **changes)
@@ -217,9 +219,16 @@ def optimizer_from_table(table: Any, source: str, section: str = "optimizer") ->
     return from_table(cls, table, section, source)
 
 
+T = TypeVar("T")
+
+
 def _kind(
-    table: Any, section: str, default: str, lookup: Any, source: str
-) -> tuple[dict[str, Any], type]:
+    table: Any,
+    section: str,
+    default: str,
+    lookup: Callable[[str], type[T]],
+    source: str,
+) -> tuple[dict[str, Any], type[T]]:
     """A ``[section]`` table without its ``kind`` key, and the class that
     ``kind`` (default ``default``) names through ``lookup``; errors name the
     file ``source``."""

@@ -43,7 +43,7 @@ _held: dict[str, int] = {}
 
 
 @contextlib.contextmanager
-def locked(directory: str | os.PathLike) -> Iterator[None]:
+def locked(directory: str | os.PathLike[str]) -> Iterator[None]:
     """Hold the write lock of an existing ``directory`` (``UserError`` if another
     process holds it). Re-entrant within a process."""
     d = Path(directory)

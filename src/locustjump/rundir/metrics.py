@@ -90,13 +90,17 @@ def parse_row(
     return tuple(values)
 
 
-def _rows(path: Path) -> tuple[tuple[str, ...], list[str], list[tuple]]:
+Row = tuple[float | int, ...]
+
+
+def _rows(path: Path) -> tuple[tuple[str, ...], list[str], list[Row]]:
     """Header names, the row lines and their numbers (checked)."""
     lines = _lines(path)
     if not lines:
         return (), [], []
     names = _header(path, lines[0])
-    texts, rows = [], []
+    texts: list[str] = []
+    rows: list[Row] = []
     for n, ln in enumerate(lines[1:], start=2):
         if not ln.strip():
             continue
@@ -105,7 +109,7 @@ def _rows(path: Path) -> tuple[tuple[str, ...], list[str], list[tuple]]:
     return names, texts, rows
 
 
-def read_metrics(path: str | os.PathLike) -> np.ndarray:
+def read_metrics(path: str | os.PathLike[str]) -> np.ndarray:
     """metrics.csv as a structured array, one record per generation (empty
     if the file is absent or holds no row); ``UserError`` naming the file
     and line of anything malformed."""
@@ -115,13 +119,13 @@ def read_metrics(path: str | os.PathLike) -> np.ndarray:
     return np.array(rows, dtype=dtype) if rows else np.zeros(0, dtype=dtype)
 
 
-def generations_done(run: str | os.PathLike) -> int:
+def generations_done(run: str | os.PathLike[str]) -> int:
     m = read_metrics(Path(run) / METRICS)
     return int(m["generation"][-1]) if len(m) else 0
 
 
 def metrics_line(
-    row: list, wall: float, rate: float, diagnostics: Sequence[float] = ()
+    row: Sequence[float], wall: float, rate: float, diagnostics: Sequence[float] = ()
 ) -> str:
     """One row of metrics.csv: ``row`` is generation, best, mean, std,
     evaluations, control steps; ``diagnostics`` the optimizer's extra columns."""

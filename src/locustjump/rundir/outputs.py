@@ -36,7 +36,7 @@ def _exists(out: Path, option: str) -> bool:
 
 
 def check_out_dir(
-    path: str | os.PathLike, *, force: bool = False, option: str = "--out"
+    path: str | os.PathLike[str], *, force: bool = False, option: str = "--out"
 ) -> Path:
     """Refuse (``UserError``) an existing non-empty ``path`` unless ``force``;
     create nothing."""
@@ -59,7 +59,7 @@ def check_out_dir(
 
 
 def prepare_out_file(
-    path: str | os.PathLike, *, force: bool = False, option: str = "--out"
+    path: str | os.PathLike[str], *, force: bool = False, option: str = "--out"
 ) -> Path:
     """Check that ``path`` (given as ``option``) can be written without
     overwriting, unless ``force``."""
@@ -96,7 +96,7 @@ def remove_made(top: Path | None) -> None:
 
 @contextlib.contextmanager
 def output_dir(
-    path: str | os.PathLike, *, force: bool = False, option: str = "--out"
+    path: str | os.PathLike[str], *, force: bool = False, option: str = "--out"
 ) -> Iterator[Path]:
     """The directory ``path`` to write into, created and locked; refused if
     it is not empty (unless ``force``) before and again once locked; removed
@@ -115,7 +115,7 @@ def output_dir(
 
 @contextlib.contextmanager
 def output_file(
-    path: str | os.PathLike, *, force: bool = False, option: str = "--out"
+    path: str | os.PathLike[str], *, force: bool = False, option: str = "--out"
 ) -> Iterator[Path]:
     """The file ``path`` to write, checked (:func:`prepare_out_file`) before
     and again under the lock of its directory, held while the body runs."""

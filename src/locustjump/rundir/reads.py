@@ -18,7 +18,7 @@ import os
 import tomllib
 import zipfile
 from pathlib import Path
-from typing import Any
+from typing import IO, Any
 
 import numpy as np
 
@@ -33,7 +33,7 @@ MAX_NESTING = 32
 MAX_NPZ_MEMBERS = 256
 
 
-def read_text(path: str | os.PathLike, what: str = "text file") -> str:
+def read_text(path: str | os.PathLike[str], what: str = "text file") -> str:
     """The UTF-8 text of ``path``, at most :data:`MAX_TEXT_BYTES` of it."""
     path = Path(path)
     try:
@@ -91,7 +91,7 @@ def _shallow(path: Path, text: str, what: str) -> None:
         raise UserError(f"{path}: nested more than {MAX_NESTING} deep, not a {what}")
 
 
-def read_toml(path: str | os.PathLike, what: str = "TOML file") -> dict[str, Any]:
+def read_toml(path: str | os.PathLike[str], what: str = "TOML file") -> dict[str, Any]:
     """A TOML file, bounded in size and nesting before it is parsed."""
     path = Path(path)
     text = read_text(path, what)
@@ -102,7 +102,7 @@ def read_toml(path: str | os.PathLike, what: str = "TOML file") -> dict[str, Any
         raise UserError(f"{path}: not valid TOML ({e})") from None
 
 
-def read_json(path: str | os.PathLike) -> dict[str, Any]:
+def read_json(path: str | os.PathLike[str]) -> dict[str, Any]:
     """A JSON object (every JSON file of a run is one), bounded in size and
     nesting before it is parsed."""
     path = Path(path)
@@ -117,7 +117,7 @@ def read_json(path: str | os.PathLike) -> dict[str, Any]:
     return data
 
 
-def _npy_header(f) -> tuple[tuple[int, ...], np.dtype]:
+def _npy_header(f: IO[bytes]) -> tuple[tuple[int, ...], np.dtype]:
     """Shape and dtype an ``.npy`` stream declares (its header only)."""
     version = np.lib.format.read_magic(f)
     if version == (1, 0):
@@ -162,7 +162,7 @@ def _check_members(path: Path, names: set[str], max_bytes: int | None) -> None:
 
 
 def load_npz(
-    path: str | os.PathLike,
+    path: str | os.PathLike[str],
     keys: tuple[str, ...],
     *,
     optional: tuple[str, ...] = (),

@@ -18,7 +18,9 @@ from locustjump.rundir.files import save_npz, write_toml
 from locustjump.rundir.layout import BEST, CONFIG, FORMAT, is_run
 from locustjump.rundir.migrations import frozen_path, npz_format
 from locustjump.rundir.reads import load_npz, read_toml
+from locustjump.sim.params import LocustParams
 from locustjump.tasks import behaviour_class, get_behaviour
+from locustjump.tasks.base import Behaviour
 
 # --- config ---------------------------------------------------------------------
 
@@ -29,7 +31,9 @@ from locustjump.tasks import behaviour_class, get_behaviour
 NUMERICAL_MODEL_FIELDS = ("substeps",)
 
 
-def load_config(path: str | os.PathLike, *, behaviour: str = "kick"):
+def load_config(
+    path: str | os.PathLike[str], *, behaviour: str = "kick"
+) -> TrainConfig:
     """Read a (possibly partial) TOML config; missing keys take the defaults
     (``behaviour`` where the file names none)."""
 
@@ -37,7 +41,7 @@ def load_config(path: str | os.PathLike, *, behaviour: str = "kick"):
     return TrainConfig.from_dict({"behaviour": behaviour, **d}, str(path))
 
 
-def write_config(path: Path, cfg) -> None:
+def write_config(path: Path, cfg: TrainConfig) -> None:
     header = (
         f"# locustjump run configuration (config hash {cfg.hash()}).\n"
         "# Edit a copy and pass it with --config to start a new run.\n"
@@ -73,7 +77,9 @@ class BestGenome:
         )
 
     @classmethod
-    def load(cls, path: str | os.PathLike, num_params: int | None = None) -> BestGenome:
+    def load(
+        cls, path: str | os.PathLike[str], num_params: int | None = None
+    ) -> BestGenome:
         """Read and check ``best.npz`` (``UserError`` naming the file if bad):
         a float64 genome of ``num_params`` finite genes, a finite fitness."""
         path = Path(path)
@@ -127,7 +133,7 @@ class FrozenGenomes:
         cls,
         required: tuple[str, ...],
         dirs: dict[str, Any],
-        model,
+        model: LocustParams,
         frozen_size: int | None = None,
     ) -> FrozenGenomes:
         """Best genomes of the runs ``dirs[name]`` for each name in ``required``;
@@ -156,7 +162,7 @@ class FrozenGenomes:
             # (not compared: frozen networks evolved on NumPy run as well
             # compiled, within a few ulp a step) and the physics substeps (a network
             # evolved at 3 may be composed at 6, docs/science.md)
-            free = dict.fromkeys(NUMERICAL_MODEL_FIELDS)
+            free: dict[str, Any] = dict.fromkeys(NUMERICAL_MODEL_FIELDS)
             free = {k: getattr(model, k) for k in free}
             if dataclasses.replace(cfg.model, **free) != model:
                 ours = cfg.replace(model=model).to_dict()["model"]
@@ -185,7 +191,9 @@ class FrozenGenomes:
         )
 
     @classmethod
-    def load(cls, path: Path, required: tuple[str, ...], num_params: int):
+    def load(
+        cls, path: Path, required: tuple[str, ...], num_params: int
+    ) -> FrozenGenomes:
         z = load_npz(
             path,
             ("format", "behaviours", "genomes", "sources", "hashes"),
@@ -207,7 +215,7 @@ class FrozenGenomes:
         )
 
 
-def frozen_of(cfg, out: Path) -> FrozenGenomes | None:
+def frozen_of(cfg: TrainConfig, out: Path) -> FrozenGenomes | None:
     """The frozen genomes the run in ``out`` builds on (``frozen.npz``),
     checked against its config; None for a behaviour built on none."""
 
@@ -224,7 +232,7 @@ def frozen_of(cfg, out: Path) -> FrozenGenomes | None:
     return frozen
 
 
-def behaviour_of(cfg, out: Path):
+def behaviour_of(cfg: TrainConfig, out: Path) -> Behaviour:
     """The behaviour of the run in ``out``; one built on frozen runs reads
     their genomes (:func:`frozen_of`)."""
 
@@ -233,7 +241,9 @@ def behaviour_of(cfg, out: Path):
     return get_behaviour(cfg.behaviour, genomes, cfg.options, cfg.scene)
 
 
-def load_run(path: str | os.PathLike):
+def load_run(
+    path: str | os.PathLike[str],
+) -> tuple[TrainConfig, Behaviour, BestGenome]:
     """``(TrainConfig, Behaviour, BestGenome)`` of run directory ``path``."""
     out = Path(path)
     if not out.is_dir():

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import IO
 
 import numpy as np
 
@@ -50,7 +51,7 @@ def write_trajectory_csv(
     fmt = ["%d", "%.6f"] + ["%.9g"] * (table.shape[1] - 2)
     fmt[6] = "%d"
 
-    def write(f) -> None:
+    def write(f: IO[bytes]) -> None:
         np.savetxt(
             f,
             table,
