@@ -241,12 +241,13 @@ class Successive(Behaviour):
     ) -> dict[str, Any]:
         """Jumps and their apexes, distance, overturns, and each jump's apex
         over the rule-based jumps' mean apex (paper: > 2x at every jump;
-        ``reference``: :meth:`reference`, simulated here if not given)."""
+        ``reference``: :meth:`reference`, simulated here if not given; no
+        ``rules_*`` keys for a behaviour that compares with none)."""
         qpos, uz = res["qpos"][0], res["obs"][0, :, 8]
         height = clearance(qpos, p, self.scene)
         jumps = find_jumps(qpos, p, self.scene)
         rules = self.reference(p) if reference is None else reference
-        rule_apex = [j.apex_height for j in rules.jumps]
+        rule_apex = [] if rules is None else [j.apex_height for j in rules.jumps]
         over, rec = overturns(uz)
         out: dict[str, Any] = {
             "fitness": float(self.fitness(res, p)[0]),
@@ -257,13 +258,14 @@ class Successive(Behaviour):
             "overturned": over,
             "recovered": rec,
             "final_up_z": float(uz[-1]),
-            "rules_jumps": len(rule_apex),
-            "rules_mean_apex_height_m": float(np.mean(rule_apex))
-            if rule_apex
-            else None,
-            "rules_fitness": float(successive_fitness(rules.qpos, p, self.scene)),
-            "unstable": bool(res.unstable[0]),
         }
+        if rules is not None:  # reference_steps = 0: compares with none
+            out["rules_jumps"] = len(rule_apex)
+            out["rules_mean_apex_height_m"] = (
+                float(np.mean(rule_apex)) if rule_apex else None
+            )
+            out["rules_fitness"] = float(successive_fitness(rules.qpos, p, self.scene))
+        out["unstable"] = bool(res.unstable[0])
         if rule_apex:
             ratios = [j.apex_height / float(np.mean(rule_apex)) for j in jumps]
             out["apex_ratios_to_rules"] = [round(r, 3) for r in ratios]

@@ -94,14 +94,14 @@ class Kick(Behaviour):
     ) -> dict[str, Any]:
         """Apex height/rise/distance, take-off speed/angle, and the rule-based
         first jump's apex for comparison (paper Fig. 7: about 2x;
-        ``reference``: :meth:`reference`, simulated here if not given)."""
+        ``reference``: :meth:`reference`, simulated here if not given; no
+        ``rules_*`` keys for a behaviour that compares with none)."""
         qpos, obs = res["qpos"][0], res["obs"][0]
         z0, x0 = qpos[0, 2], qpos[0, 0]
         apex = int(np.argmax(qpos[:, 2]))
         t_off, speed, angle = takeoff(qpos, obs[:, 4] < 0, apex)
         jumps = find_jumps(qpos, p)
         rules = self.reference(p) if reference is None else reference
-        first = rules.jumps[0] if rules.jumps else None
         out: dict[str, Any] = {
             "fitness": float(self.fitness(res, p)[0]),
             "apex_height_m": float(qpos[apex, 2]),
@@ -115,6 +115,9 @@ class Kick(Behaviour):
             "first_jump_apex_height_m": jumps[0].apex_height if jumps else None,
             "unstable": bool(res.unstable[0]),
         }
+        if rules is None:  # reference_steps = 0: compares with none
+            return out
+        first = rules.jumps[0] if rules.jumps else None
         # the rule-based jumping's own fitness over the same 300 steps
         out["rules_fitness"] = float(
             kick_fitness(rules.qpos[None, : self.n_steps + 1])[0]

@@ -36,18 +36,22 @@ class KickReporter(Reporter):
 
     def write_figures(self, ep: Episodes, out: Path) -> list[Path]:
         """``kick_vs_rules.png``: the paper's Fig. 7, evolved kick beside the
-        rule-based jumping over the same episode length."""
+        rule-based jumping over the same episode length (alone, for a
+        behaviour that compares with none)."""
         beh, res, p, reference = ep
         qpos = res["qpos"][0]
-        rules = (reference or beh.reference(p)).head(beh.n_steps, p)
+        reference = reference or beh.reference(p)
+        curves = [("evolved kick", qpos, find_jumps(qpos, p, beh.scene))]
+        vs = ""
+        if reference is not None:
+            rules = reference.head(beh.n_steps, p)
+            curves.append(("rule-based", rules.qpos, rules.jumps))
+            vs = " vs rule-based"
         path = out / FIGURE
         trajectory_figure(
             path,
-            [
-                ("evolved kick", qpos, find_jumps(qpos, p, beh.scene)),
-                ("rule-based", rules.qpos, rules.jumps),
-            ],
-            title=f"Kicking the ground: evolved vs rule-based ({beh.n_steps} steps)",
+            curves,
+            title=f"Kicking the ground: evolved{vs} ({beh.n_steps} steps)",
             ground=ground_profile(qpos, p, beh.scene),
         )
         return [path]

@@ -39,23 +39,27 @@ class SuccessiveReporter(Reporter):
 
     def write_figures(self, ep: Episodes, out: Path) -> list[Path]:
         """``<name>.png``: the paper's Fig. 12, the trajectory over the
-        rule-based one and, under it, which simple behaviour was selected."""
+        rule-based one (for a behaviour that compares with one) and, under it,
+        which simple behaviour was selected."""
         beh, res, p, reference = ep
         qpos = res["qpos"][0]
-        rules = (reference or beh.reference(p)).head(beh.n_steps, p)
+        reference = reference or beh.reference(p)
         selected = res["memory"][0, 1:, 0] if "memory" in res.records else None
         path = out / f"{beh.name}.png"
         jumps = find_jumps(qpos, p, beh.scene)
         what = "Successive jumping" if len(jumps) > 1 else _jumps(len(jumps))
+        curves = [(beh.name, qpos, jumps)]
+        vs = ""
+        if reference is not None:
+            rules = reference.head(beh.n_steps, p)
+            curves.append(("rule-based", rules.qpos, rules.jumps))
+            vs = " vs rule-based"
         composed_figure(
             path,
-            [
-                (beh.name, qpos, jumps),
-                ("rule-based", rules.qpos, rules.jumps),
-            ],
+            curves,
             selected,
             SIMPLE,
-            title=f"{what}: {beh.name} vs rule-based ({beh.n_steps} steps)",
+            title=f"{what}: {beh.name}{vs} ({beh.n_steps} steps)",
             ground=ground_profile(qpos, p, beh.scene),
         )
         return [path]
