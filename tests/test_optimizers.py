@@ -3,6 +3,7 @@ optimizer stops, its diagnostics in metrics.csv, and bad input."""
 
 import dataclasses
 import json
+import re
 from typing import Any, ClassVar
 
 import numpy as np
@@ -21,6 +22,7 @@ from locustjump.evo import (
     RCGAParams,
     make_optimizer,
     optimizer_kinds,
+    params_class,
     register,
     rng_from_state,
     rng_state,
@@ -368,3 +370,12 @@ def test_diagnostics_columns_and_older_metrics_files(tmp_path):
     old, new = rundir.read_metrics(m), rundir.read_metrics(whole / rundir.METRICS)
     for k in ("generation", "best", "mean", "std", "evaluations"):
         np.testing.assert_array_equal(old[k], new[k])
+
+
+@pytest.mark.parametrize("kind", [None, 3, [], {"rcga": 1}])
+def test_an_optimizer_kind_that_is_no_name_is_unknown(kind):
+    # an unhashable kind once reached the registry's lookup: a TypeError
+    with pytest.raises(ValueError, match=re.escape(f"unknown optimizer {kind!r}")):
+        params_class(kind)
+    with pytest.raises(ValueError, match="unknown optimizer"):
+        TrainConfig(optimizer=type("Settings", (), {"kind": kind})())
