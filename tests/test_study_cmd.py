@@ -292,6 +292,17 @@ def test_training_terrains_are_checked(tmp_path, change, message):
     assert r.returncode == 2 and message in r.stderr, r.stderr
 
 
+def test_a_terrain_stride_on_the_flat_floor_is_refused(tmp_path):
+    # the flat scene has no seed: this was an AttributeError (exit 1)
+    path = tmp_path / "s.toml"
+    text = DEBRIS.replace('scene = { kind = "debris", seed = 1000, terrains = 3 }', "")
+    assert "debris" not in text
+    path.write_text(text)
+    r = run_cli("study", str(path), "--status")
+    assert r.returncode == 2, r.stderr
+    assert "terrain_stride: the flat scene has no terrains to choose from" in r.stderr
+
+
 @pytest.mark.parametrize("path", SHIPPED, ids=lambda p: p.stem)
 def test_every_study_file_is_valid(path, monkeypatch):
     """Studies still training (their runs not shipped) are valid files too."""

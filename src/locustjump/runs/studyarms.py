@@ -48,7 +48,8 @@ class Arm:
         cfg = self.base.replace(seed=s)
         if self.terrain_stride:
             t = cfg.scene
-            first = t.scene.with_seed(t.scene.seed + self.terrain_stride * s)
+            seed = getattr(t.scene, "seed", 0)  # a scene of one terrain has none
+            first = t.scene.with_seed(seed + self.terrain_stride * s)
             cfg = cfg.replace(scene=dataclasses.replace(t, scene=first))
         return cfg
 
@@ -136,7 +137,7 @@ def _stride(v: Any, cfg: TrainConfig, where: str) -> int:
     if isinstance(v, bool) or not isinstance(v, int) or not 0 <= v < 2**31:
         raise UserError(f"{where}: terrain_stride must be an integer >= 0, got {v!r}")
     scene = cfg.scene.scene
-    if v and scene.with_seed(scene.seed + 1) == scene:
+    if v and scene.with_seed(getattr(scene, "seed", 0) + 1) == scene:
         raise UserError(
             f"{where}: terrain_stride: the {scene.name} scene has no terrains to "
             "choose from"
