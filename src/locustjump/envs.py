@@ -162,7 +162,7 @@ class LocustEnv(gym.Env):
         self.action_space = spaces.Box(-1.0, 1.0, (N_ACTUATORS,), dtype=np.float64)
         self._size = (width, height)
         self._camera = camera
-        self._renderer = None
+        self._renderer: Any = None  # a mujoco.Renderer once rendering
         self._t = 0
         self._return = 0.0
 

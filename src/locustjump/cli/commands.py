@@ -45,8 +45,8 @@ def _scene(args: argparse.Namespace) -> Scene:
 
 def terrain_table(te: TerrainEvaluation) -> str:
     """``evaluate --terrain-seeds``' printout: a row per terrain, the summary."""
-    keys = ("jumps", "distance_m", "overturned", "recovered", "rules_fitness")
-    keys = tuple(k for k in keys if k in te.metrics[0])
+    wanted = ("jumps", "distance_m", "overturned", "recovered", "rules_fitness")
+    keys = tuple(k for k in wanted if k in te.metrics[0])
     head = f"{'seed':>6} {'fitness':>12} " + " ".join(f"{k:>13}" for k in keys)
     lines = [f"{te.behaviour} on {te.scene} terrains (* = a training terrain)", head]
     for s, f, t, m in zip(te.seeds, te.fitness, te.trained, te.metrics, strict=True):

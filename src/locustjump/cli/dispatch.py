@@ -55,7 +55,7 @@ def _log(args, argv: Sequence[str]) -> str:
         + traceback.format_exc()
         + "\n"
     )
-    key = _WRITES_INTO.get(getattr(args, "command", None), "")
+    key = _WRITES_INTO.get(getattr(args, "command", None) or "", "")
     d = getattr(args, key, None) if key else None
     if d and Path(d).is_dir():
         try:

@@ -130,7 +130,7 @@ def score_run(
         p = dataclasses.replace(p, substeps=substeps)
     scenes = _scenes(beh, terrain_seeds, scene)
     own = backend is None
-    backend = ThreadBackend() if own else backend
+    backend = ThreadBackend() if backend is None else backend
     try:
         return [_score(beh.on(s), best.genome, p, cfg.engine, backend) for s in scenes]
     finally:
@@ -255,7 +255,7 @@ def deepest_contact(
     here = beh.on(_scenes(beh, seeds, scene)[0])
     starts = here.start_states(p)
     own = backend is None
-    backend = ThreadBackend() if own else backend
+    backend = ThreadBackend() if backend is None else backend
     try:
         res = here.simulate(best.genome[None], p, backend=backend, engine=cfg.engine,
                             record=("ctrl", "penetration"))  # fmt: skip
@@ -264,7 +264,7 @@ def deepest_contact(
             backend.close()
     pen = res["penetration"]
     if among is None:  # the recorded deepest: replay up to its step
-        e, until = np.unravel_index(int(np.argmax(pen)), pen.shape)
+        e, until = map(int, np.unravel_index(int(np.argmax(pen)), pen.shape))
     else:
         e, until = int(np.argmax(pen.max(axis=1))), int(res.steps.max())
     m = lm.load_model(p, here.scene)
@@ -306,12 +306,13 @@ def _replay(
                 mujoco.mj_step(m, d)
             n = d.ncon
             g1, g2 = d.contact.geom1[:n], d.contact.geom2[:n]
-            pairs = {}
+            pairs: dict[tuple[int, int], tuple] = {}
             for i in range(n):
                 pair = (int(g1[i]), int(g2[i]))
-                pairs[pair] = onset.get(pair)
-                if pairs[pair] is None:
-                    pairs[pair] = _approach_speed(m, d, d.contact[i])
+                known = onset.get(pair)
+                pairs[pair] = (
+                    _approach_speed(m, d, d.contact[i]) if known is None else known
+                )
             onset = pairs
             ok = np.flatnonzero(watch[g1] | watch[g2])
             if ok.size == 0:

@@ -4,10 +4,12 @@ and importing this module leaves the user's Matplotlib backend alone)."""
 from __future__ import annotations
 
 from pathlib import Path
+from typing import cast
 
 import numpy as np
 from matplotlib.colors import ListedColormap
 from matplotlib.figure import Figure
+from matplotlib.projections.polar import PolarAxes
 
 from locustjump.rundir import atomic_write_bytes
 from locustjump.sim.analysis import Jump
@@ -203,7 +205,7 @@ def joint_angles_figure(path: Path, angles: np.ndarray, target: np.ndarray) -> N
 def sweep_figure(path: Path, sweep, *, title: str = "") -> None:
     """Polar plot of get-up success over the start roll angle."""
     fig = Figure(figsize=(5.2, 5.2), constrained_layout=True)
-    ax = fig.add_subplot(projection="polar")
+    ax = cast(PolarAxes, fig.add_subplot(projection="polar"))
     ax.set_theta_zero_location("N")  # 0 deg = upright, at the top
     ax.set_theta_direction(-1)
     theta = np.radians(sweep.roll_deg)

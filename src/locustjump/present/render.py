@@ -315,7 +315,7 @@ def render_video(
     fps: float = 60.0,
     camera: str = names.CAMERA_TRACK,
     force: bool = False,
-    progress: Callable[[int], None] | None = None,
+    progress: Callable[[int], object] | None = None,
 ) -> Path:
     """Encode ``pb`` into ``out`` (``.mp4`` or ``.gif``), written atomically."""
     out = Path(out)

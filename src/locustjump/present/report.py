@@ -85,7 +85,7 @@ def _html_twin(href: str) -> str:
 def _embed(token: Token, base: Path) -> None:
     """Make an image token of the Markdown self-contained: a figure relative
     to ``base`` becomes a data URI (a video, a <video>), a missing one text."""
-    src = token.attrGet("src") or ""
+    src = str(token.attrGet("src") or "")
     path = base / src
     alt = token.content
     if not (path.is_file() and path.suffix.lower() in _MIME):
@@ -114,7 +114,7 @@ def markdown_to_html(text: str, base: Path) -> str:
             if token.type == "image":
                 _embed(token, base)
             elif token.type == "link_open":
-                token.attrSet("href", _html_twin(token.attrGet("href") or ""))
+                token.attrSet("href", _html_twin(str(token.attrGet("href") or "")))
     return _MARKDOWN.renderer.render(tokens, _MARKDOWN.options, {})
 
 

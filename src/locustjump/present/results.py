@@ -332,10 +332,10 @@ def seeds_markdown(out: Path) -> str:
         "| --- | --- | --- | --- |",
     ]
     for s in stages:
-        got = {seed: info[seed][s]["fitness"] for seed in seeds if s in info[seed]}
-        per = ", ".join(f"{seed}: {f:.4g}" for seed, f in got.items()) or "-"
+        best = {seed: info[seed][s]["fitness"] for seed in seeds if s in info[seed]}
+        per = ", ".join(f"{seed}: {f:.4g}" for seed, f in best.items()) or "-"
         lines.append(
-            f"| {s} | {len(got)} of {len(seeds)} | {_spread(list(got.values()))} | "
+            f"| {s} | {len(best)} of {len(seeds)} | {_spread(list(best.values()))} | "
             f"{per} |"
         )
     lines.append("")

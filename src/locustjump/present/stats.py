@@ -264,7 +264,7 @@ def verdict(c: Comparison) -> str:
         return f"{c.a} better than {c.b}"
     if c.high < 0:
         return f"{c.b} better than {c.a}"
-    if c.p_equivalence is not None and c.p_equivalence < ALPHA:
+    if c.p_equivalence is not None and c.p_equivalence < ALPHA and c.margin is not None:
         return f"equivalent within ±{_g(c.margin)}"
     if not (math.isfinite(c.low) and math.isfinite(c.high)):
         return (
@@ -288,8 +288,9 @@ def compare_samples(
     a sample of fewer than 2 values, or a margin not > 0.
     """
     if names is None:
-        names = tuple(
-            s.label if isinstance(s, Sample) else d for s, d in ((a, "A"), (b, "B"))
+        names = (
+            a.label if isinstance(a, Sample) else "A",
+            b.label if isinstance(b, Sample) else "B",
         )
     if margin is not None and not (math.isfinite(margin) and margin > 0):
         raise ValueError(f"margin must be a finite number > 0, got {margin}")

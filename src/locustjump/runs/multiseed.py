@@ -129,7 +129,7 @@ def reproduce_seeds(
                 reproduce(
                     rep.seed_dir(s), budget=rep.budget, seed=s,
                     optimizer=rep.optimizer, engine=rep.engine, backend=here,
-                    progress=progress, log=lambda m, s=s: log(f"[seed {s}] {m}"),
+                    progress=progress, log=_tagged(log, s),
                     videos=videos, monolithic=monolithic, terrains=rep.terrains,
                 )  # fmt: skip
                 _write_results(rep.out, here)
@@ -201,9 +201,8 @@ def _run_on_ray(ray, rep: Reproduction, threads, monolithic, here, progress, log
     try:
         while pending or done_seeds:
             for s in done_seeds:
-                tagged = lambda m, s=s: log(f"[seed {s}] {m}")  # noqa: E731
                 finish_reproduction(
-                    rep.seed_dir(s), backend=here, videos=videos, log=tagged
+                    rep.seed_dir(s), backend=here, videos=videos, log=_tagged(log, s)
                 )
                 _write_results(rep.out, here)
             done_seeds = []
@@ -225,6 +224,11 @@ def _run_on_ray(ray, rep: Reproduction, threads, monolithic, here, progress, log
                 done_seeds.append(s)
     finally:
         bar.close()
+
+
+def _tagged(log: Callable[[str], None], seed: int) -> Callable[[str], None]:
+    """``log`` with each line tagged with its seed."""
+    return lambda m: log(f"[seed {seed}] {m}")
 
 
 def _write_results(out: Path, backend: Backend) -> Path:

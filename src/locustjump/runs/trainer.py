@@ -242,7 +242,7 @@ def train(
 def _check_new(
     out: Path,
     cfg: TrainConfig,
-    cls: type,
+    cls: type[Behaviour],
     frozen: FrozenGenomes | None,
     backend: Backend,
 ) -> Trainer:
@@ -263,10 +263,8 @@ def _check_new(
             + ")"
         )
     lm.check_model(cfg.model)
-    beh = get_behaviour(
-        cfg.behaviour, frozen.genomes if cls.requires else None, cfg.options,
-        cfg.scene,
-    )  # fmt: skip
+    built_on = frozen.genomes if frozen is not None and cls.requires else None
+    beh = get_behaviour(cfg.behaviour, built_on, cfg.options, cfg.scene)
 
     require_memory(
         rollout_bytes(
@@ -297,6 +295,7 @@ def _create(run: Trainer, frozen: FrozenGenomes | None) -> None:
     for leftover in run.out.iterdir():
         leftover.unlink()
     if run.beh.requires:
+        assert frozen is not None  # _check_new refused a run without them
         frozen.save(run.out / rundir.FROZEN)
     rundir.write_config(run.out / rundir.CONFIG, run.cfg)
     rundir.truncate_metrics(run.out / rundir.METRICS, 0, "", run.diagnostics)

@@ -34,7 +34,7 @@ and fitness (``Successive``).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
@@ -216,7 +216,7 @@ class Successive(Behaviour):
     reference_steps = n_steps
     record = ("qpos",)
     worst_fitness = 0.0
-    eval_record = ("qpos", "obs", "ctrl", "memory")
+    eval_record: ClassVar[tuple[str, ...]] = ("qpos", "obs", "ctrl", "memory")
 
     def start_states(self, p: lm.LocustParams) -> StartStates:
         return rolled_starts(p, (START_ROLL,))  # on any terrain: module docstring

@@ -18,7 +18,7 @@ import numpy as np
 from locustjump.sim import model as lm
 from locustjump.sim.analysis import clearance
 from locustjump.sim.engine.job import RolloutResult
-from locustjump.tasks.base import StepReward
+from locustjump.tasks.base import Behaviour, StepReward
 from locustjump.tasks.composed import Composed, successive_terms
 from locustjump.tasks.monolithic import Monolithic
 
@@ -34,7 +34,7 @@ class HeightOnlyReward(StepReward):
         return float(clearance(qpos[None], self.p, self.behaviour.scene)[0])
 
 
-class _HeightOnly:
+class _HeightOnly(Behaviour):
     """Eq. 4 above the ground, no distance term (mixed into a ``Successive``)."""
 
     def episode_fitness(self, res: RolloutResult, p: lm.LocustParams) -> np.ndarray:

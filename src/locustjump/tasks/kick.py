@@ -11,7 +11,7 @@
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
@@ -77,7 +77,7 @@ class Kick(Behaviour):
     reference_steps = 2 * n_steps
     record = ("qpos",)
     worst_fitness = 0.0
-    gym_id = "LocustKick-v0"
+    gym_id: ClassVar[str | None] = "LocustKick-v0"
 
     def start_states(self, p: lm.LocustParams) -> StartStates:
         return ready_start(p, self.scene)

@@ -6,6 +6,8 @@ composition help? (``results.md`` answers it: :mod:`locustjump.present.stages`.)
 
 from __future__ import annotations
 
+from typing import ClassVar
+
 from locustjump.tasks.composed import Successive
 
 
@@ -14,7 +16,7 @@ class Monolithic(Successive):
 
     name = "monolithic"
     eval_record = ("qpos", "obs", "ctrl")
-    gym_id = "LocustSuccessiveJump-v0"
+    gym_id: ClassVar[str | None] = "LocustSuccessiveJump-v0"
 
 
 __all__ = ["Monolithic"]

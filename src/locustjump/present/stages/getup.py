@@ -50,6 +50,7 @@ class GetUpReporter(Reporter):
     def write_figures(self, ep: Episodes, out: Path) -> list[Path]:
         """``getup.png``: the paper's Fig. 9, U_z over time from each state."""
         beh, res, p, _ = ep
+        assert isinstance(beh, GetUp)  # the reporter of the get-up and its variants
         path = out / FIGURE
         getup_figure(path, up_z(res), beh.rolls, SUCCESS_UZ)
         return [path]

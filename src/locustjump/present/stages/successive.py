@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
@@ -35,7 +35,7 @@ COMPOSED_WHY = (
 class SuccessiveReporter(Reporter):
     """The figure shared by the composed and the monolithic behaviour."""
 
-    headline = ("jumps", "apex_heights_m")
+    headline: ClassVar[tuple[str, ...]] = ("jumps", "apex_heights_m")
 
     def write_figures(self, ep: Episodes, out: Path) -> list[Path]:
         """``<name>.png``: the paper's Fig. 12, the trajectory over the
