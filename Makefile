@@ -5,7 +5,7 @@ PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 
-.PHONY: demo test lint bench clean
+.PHONY: demo test typecheck lint bench clean
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -24,10 +24,14 @@ demo: $(VENV)/.installed
 	# `make demo` continues an interrupted reproduction
 	$(BIN)/locustjump reproduce --budget demo --seed 0 --no-monolithic --out demo/reproduce
 
-test: $(VENV)/.installed
+test: $(VENV)/.installed typecheck
 	$(BIN)/ruff check src tests benchmarks scripts
 	$(BIN)/lint-imports --no-cache
 	$(BIN)/python -m pytest -q -rs  # -rs: say why a test was skipped
+
+# mypy as [tool.mypy] in pyproject.toml says: strict on sim, evo and rundir
+typecheck: $(VENV)/.installed
+	$(BIN)/mypy
 
 bench: $(VENV)/.installed
 	$(BIN)/python benchmarks/throughput.py
