@@ -109,8 +109,22 @@ def test_evaluate_reproduces_the_recorded_fitness(full_run, capsys):
     assert (full_run / "eval" / "kick_vs_rules.png").is_file()
     ev = evaluate_run(full_run)
     assert ev.matches and ev.metrics["fitness"] == ev.fitness
+    # Python's own numbers, not NumPy's (np.float64 passes isinstance(float))
+    types = {type(v) for v in ev.metrics.values()}
+    assert types <= {float, int, bool, str, list, dict}, types
+    assert {type(v) for v in ev.metrics.values() if isinstance(v, float)} == {float}
     header = (full_run / "eval" / "trajectory.csv").read_text().splitlines()[0]
     assert header.startswith("step,t,x,y,z,up_z,touch,hip_l,knee_l,hip_r,knee_r")
+
+
+def test_metrics_are_plain_python_all_the_way_down():
+    from locustjump.present.evaluate import plain
+
+    m = plain({"a": np.float64(1.5), "b": [np.int64(2), (np.bool_(True),)],
+               "c": {"d": np.arange(2.0)}, "e": "x"})  # fmt: skip
+    assert m == {"a": 1.5, "b": [2, (True,)], "c": {"d": [0.0, 1.0]}, "e": "x"}
+    assert type(m["a"]) is float and type(m["b"][0]) is int
+    assert type(m["b"][1][0]) is bool and type(m["c"]["d"][0]) is float
 
 
 def test_kick_fitness_is_the_rectangle():

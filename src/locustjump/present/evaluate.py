@@ -92,8 +92,21 @@ def evaluate_run(
     )
     episodes = Episodes(beh, res, p, reference)
     return _write(
-        cfg, best, episodes, float(fit[0]), metrics, Path(eval_dir), elsewhere
+        cfg, best, episodes, float(fit[0]), plain(metrics), Path(eval_dir), elsewhere
     )
+
+
+def plain(value: Any) -> Any:
+    """``value`` with every NumPy scalar or array in it as Python's own
+    (``float``, ``int``, ``bool``; an array a list), in dicts, lists and
+    tuples alike: what a behaviour's metrics hold, whatever NumPy handed it."""
+    if isinstance(value, dict):
+        return {k: plain(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return type(value)(plain(v) for v in value)
+    if isinstance(value, np.ndarray | np.generic):
+        return value.tolist()
+    return value
 
 
 def _write(
@@ -199,7 +212,7 @@ def evaluate_terrains(
              else here.metrics(res, p, best.genome, ref))  # fmt: skip
         fits.append(float(fit[0]))
         marks.append(here.scene in trained)
-        metrics.append(m)
+        metrics.append(plain(m))
     return TerrainEvaluation(
         cfg.behaviour, base.name, list(seeds), fits, marks, metrics,
         best.fitness, beh.terrains.aggregate,
