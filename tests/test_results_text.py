@@ -78,3 +78,44 @@ def test_report_lists_the_reasons(shipped, tmp_path):
     html = write_report(d).read_text()
     assert "<li><strong>the legs return to the ready posture" in html
     assert "\n- " not in html
+
+
+def test_the_return_legs_evidence_is_what_the_cited_runs_hold(tmp_path):
+    """results.md's "beyond this run" for return-legs (issue #47: it said
+    "a matter of training time" where the engine made the difference): each
+    run it cites ends as it says, on the engine and budget it says."""
+    from pathlib import Path
+
+    from locustjump import rundir
+    from locustjump.present.evaluate import evaluate_run
+    from locustjump.present.stages.return_legs import RETURN_LEGS_WHY
+
+    results = Path(__file__).resolve().parent.parent / "results"
+    study = "results/study/long-return-legs-rcga-s1, -s2"
+    # run: (as the text cites it, engine, generations, seed)
+    within = {
+        "study/long-return-legs-rcga-s1": (study, "numba", 60, 1),
+        "study/long-return-legs-rcga-s2": (study, "numba", 60, 2),
+        "long-seed0/return-legs": ("results/long-seed0", "numpy", 60, 0),
+        "paper-seed0/return-legs": ("results/paper-seed0", "numpy", 1000, 0),
+    }
+    off = {"demo-seed0/return-legs": ("results/demo-seed0", "numba", 60, 0)}
+    for name, (cited, *how) in (within | off).items():
+        assert cited in RETURN_LEGS_WHY, name
+        run = results / name
+        cfg = rundir.load_config(run / rundir.CONFIG)
+        assert [cfg.engine, cfg.generations, cfg.seed] == how, name
+        record = run / "eval" / "metrics.json"
+        if record.is_file():
+            metrics = json.loads(record.read_text())["metrics"]
+        else:  # a study's run ships no evaluation
+            metrics = evaluate_run(run, eval_dir=tmp_path / name).metrics
+        final = metrics["final_error_deg"]
+        if name in within:
+            assert max(final.values()) <= 4.95, name
+            assert 4.9 < min(final["knee_l"], final["knee_r"]) <= 4.95, name
+        else:
+            assert round(final["hip_r"], 2) == 39.76
+    assert "within 4.95 deg" in RETURN_LEGS_WHY
+    assert "hip_r 39.76 deg off" in RETURN_LEGS_WHY
+    assert "training time" not in RETURN_LEGS_WHY
