@@ -1,6 +1,7 @@
 """Behaviour Composed: the switcher, composed runs and their bad input, and the
 one-command reproduction (on a tiny budget) with replay."""
 
+import re
 import shutil
 from pathlib import Path
 
@@ -369,6 +370,43 @@ def test_reproduce_renders_a_video_per_stage(reproduction, tmp_path):
     assert [p.parent.name for p in made] == list(STAGES)
     assert all(p.stat().st_size > 1000 for p in made)
     assert render_videos(d, fps=0.5, log=logs.append) == []  # kept, not re-made
+
+
+def test_reproduce_announces_every_phase(reproduction, tmp_path, capsys):
+    """Issue #47: after training, a reproduction said nothing for minutes.
+    Each phase is announced before it begins: a stage's training and its
+    evaluation (stage k of n), each video (k of n, with a bar over its frames
+    and tqdm's estimate of the time left), results.md and the report."""
+    pytest.importorskip("imageio", reason="extra locustjump[video] not installed")
+    from locustjump.runs.reproduce import render_videos
+
+    d = shutil.copytree(reproduction, tmp_path / "r")
+    (d / "composed" / "eval" / "metrics.json").unlink()  # to be evaluated again
+    logs: list[str] = []
+    reproduce(d, budget=TINY, progress=False, log=logs.append, videos=False)
+    assert logs[3:5] == [
+        "[composed] stage 5 of 6: resuming: 1 generations",
+        "[composed] stage 5 of 6: evaluating its best genome",
+    ]
+    assert logs[5].startswith("[composed] best fitness")
+    assert logs[-3] == "writing results.md and report.html"
+    for stage in ("rules", "getup", "return-legs", "monolithic"):  # fewer videos
+        shutil.rmtree(d / stage)
+    logs.clear()
+    capsys.readouterr()
+    render_videos(d, fps=0.5, log=logs.append, progress=True)
+    if any(s.startswith("videos skipped") for s in logs):
+        pytest.skip(logs[-1])
+    assert logs == [
+        "[kick] rendering video 1 of 2 (re-simulating its best genome first)",
+        f"[kick] wrote {d / 'kick' / rundir.VIDEO}",
+        "[composed] rendering video 2 of 2 (re-simulating its best genome first)",
+        f"[composed] wrote {d / 'composed' / rundir.VIDEO}",
+    ]
+    bars = capsys.readouterr().err
+    assert "video 1 of 2, kick: 100%" in bars and "video 2 of 2, composed" in bars
+    # elapsed<left: tqdm's estimate of the time left
+    assert re.search(r"\[\d\d:\d\d<\d\d:\d\d, +[\d.]+(frame/s|s/frame)\]", bars)
 
 
 def test_reproduce_cli_bad_input(tmp_path, capsys):

@@ -204,10 +204,16 @@ def acting(selected: np.ndarray) -> np.ndarray:
     return np.concatenate([idx[:, 1:], idx[:, -1:]], axis=1)
 
 
-def make_renderer(m: mujoco.MjModel, width: int, height: int) -> mujoco.Renderer:
-    """An offscreen renderer, or :class:`RenderUnavailable` saying what is missing."""
+def check_rendering() -> None:
+    """:class:`RenderUnavailable` where offscreen rendering was switched off
+    (:data:`locustjump.opengl.PROBLEM` says what to install)."""
     if opengl.PROBLEM is not None:
         raise RenderUnavailable(f"cannot render offscreen: {opengl.PROBLEM}")
+
+
+def make_renderer(m: mujoco.MjModel, width: int, height: int) -> mujoco.Renderer:
+    """An offscreen renderer, or :class:`RenderUnavailable` saying what is missing."""
+    check_rendering()
     try:
         return mujoco.Renderer(m, height=height, width=width)
     except Exception as e:  # GL back ends fail in many ways (ImportError, ...)
@@ -345,10 +351,12 @@ def render_run(
     progress: bool = False,
     backend: Backend | None = None,
     scene: Scene | None = None,
+    label: str | None = None,
 ) -> Path:
     """Video of what directory ``path`` holds (default ``path/video.mp4``; a
     shipped run's under ``runs/shipped/``: :func:`locustjump.rundir.derived_dir`),
-    in its own scene or ``scene``."""
+    in its own scene or ``scene``; ``progress``: a bar over the frames, called
+    ``label`` (default ``render`` and the file's name)."""
     if out is None:
         out = rundir.derived_dir(Path(path)) / rundir.VIDEO
         if not Path(path).is_dir():
@@ -361,16 +369,18 @@ def render_run(
     with rundir.locked(out.parent):  # the directory written into
         check_video_path(out, force=force)  # another process was first?
         pb = playback_of(path, backend=backend, scene=scene)
-        return _encode(pb, out, fps, camera, force, progress)
+        label = f"render {out.name}" if label is None else label
+        return _encode(pb, out, fps, camera, force, label if progress else None)
 
 
 def _encode(
-    pb: Playback, out: Path, fps: float, camera: str, force: bool, progress: bool
+    pb: Playback, out: Path, fps: float, camera: str, force: bool, desc: str | None
 ) -> Path:
-    if not progress:
+    """``render_video``, with a progress bar called ``desc`` if not ``None``."""
+    if desc is None:
         return render_video(pb, out, fps=fps, camera=camera, force=force)
     total = int(pb.n_steps * CONTROL_DT * fps) + 1
-    with tqdm(total=total, unit="frame", desc=f"render {out.name}") as bar:
+    with tqdm(total=total, unit="frame", desc=desc) as bar:
         return render_video(
             pb, out, fps=fps, camera=camera, force=force,
             progress=lambda n: bar.update(n - bar.n),

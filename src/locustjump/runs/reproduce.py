@@ -25,7 +25,12 @@ from typing import TYPE_CHECKING
 from locustjump import rundir
 from locustjump.errors import UserError
 from locustjump.present.evaluate import Evaluation, evaluate_run
-from locustjump.present.render import VIDEO_FPS, RenderUnavailable, render_run
+from locustjump.present.render import (
+    VIDEO_FPS,
+    RenderUnavailable,
+    check_rendering,
+    render_run,
+)
 from locustjump.present.report import write_report
 from locustjump.present.results import results_markdown
 from locustjump.runs.reproduction import (
@@ -100,15 +105,19 @@ def reproduce(
     with rundir.locked(rep.out):
         rep.check()  # another process may have been first
         rep.start(command or rep.command(monolithic=monolithic))
-        for stage in stages_of(monolithic):
+        stages = stages_of(monolithic)
+        for k, stage in enumerate(stages, 1):
             if not rep.stage_done(stage):
-                rep.run_stage(stage, backend, progress=progress, log=log)
+                rep.run_stage(stage, backend, progress=progress, log=log,
+                              of=(k, len(stages)))  # fmt: skip
                 rundir.atomic_write_text(
                     rep.out / rundir.RESULTS, results_markdown(rep.out)
                 )
             elif stage != rundir.RULES_DIR:
                 log(f"[{stage}] done ({rep.budget.of(stage)} generations)")
-        return finish_reproduction(rep.out, backend=backend, log=log, videos=videos)
+        return finish_reproduction(
+            rep.out, backend=backend, log=log, videos=videos, progress=progress
+        )
 
 
 def finish_reproduction(
@@ -117,11 +126,14 @@ def finish_reproduction(
     backend: Backend | None = None,
     log: Callable[[str], None] = print,
     videos: bool = True,
+    progress: bool = False,
 ) -> Path:
-    """Videos (``videos``), ``results.md`` and ``report.html`` of ``out``."""
+    """Videos (``videos``; ``progress``: a bar for each), ``results.md`` and
+    ``report.html`` of ``out``."""
     path = out / rundir.RESULTS
     if videos:
-        render_videos(out, backend=backend, log=log)
+        render_videos(out, backend=backend, log=log, progress=progress)
+    log(f"writing {rundir.RESULTS} and {rundir.REPORT}")
     rundir.atomic_write_text(path, results_markdown(out))
     log(f"wrote {path}")
     log(f"wrote {write_report(out, out=out / rundir.REPORT)}")
@@ -134,20 +146,35 @@ def render_videos(
     fps: float = VIDEO_FPS,
     backend: Backend | None = None,
     log: Callable[[str], None] = print,
+    progress: bool = False,
 ) -> list[Path]:
     """``<stage>/video.mp4`` for every stage of reproduction ``out`` that has
-    none yet; skipped, with the reason logged, where rendering is unavailable."""
-    made = []
-    for stage in STAGES:
+    none yet, each announced (``video k of n``) before it is made, with a bar
+    over its frames (``progress``; its estimate of the time left); skipped,
+    with the reason logged, where rendering is unavailable."""
+    todo = [
+        s for s in STAGES
+        if (Path(out) / s).is_dir() and not (Path(out) / s / rundir.VIDEO).is_file()
+    ]  # fmt: skip
+    made: list[Path] = []
+    try:
+        if todo:
+            check_rendering()  # before the first re-simulation
+    except RenderUnavailable as e:
+        log(f"videos skipped: {e}")
+        return made
+    for k, stage in enumerate(todo, 1):
         d = Path(out) / stage
-        if not d.is_dir() or (d / rundir.VIDEO).is_file():
-            continue
+        what = f"video {k} of {len(todo)}"
+        log(f"[{stage}] rendering {what} (re-simulating its best genome first)")
         try:
-            made.append(render_run(d, d / rundir.VIDEO, fps=fps, backend=backend))
+            video = render_run(d, d / rundir.VIDEO, fps=fps, backend=backend,
+                               progress=progress, label=f"{what}, {stage}")  # fmt: skip
         except RenderUnavailable as e:
             log(f"videos skipped: {e}")
             break
-        log(f"[{stage}] wrote {made[-1]}")
+        made.append(video)
+        log(f"[{stage}] wrote {video}")
     return made
 
 

@@ -293,14 +293,18 @@ class Reproduction:
         *,
         progress: bool = False,
         log: Callable[[str], None] = print,
+        of: tuple[int, int] | None = None,
     ) -> float | None:
         """Run (or continue) ``stage`` of ``seed``'s reproduction, whose marker
         exists and whose required stages are done; the best fitness (``None``
-        for the rule-based stage)."""
+        for the rule-based stage). Each phase (training, evaluating) is
+        announced through ``log`` before it begins, as stage ``k`` of ``n``
+        where ``of`` is ``(k, n)``."""
         seed = self.seeds[0] if seed is None else seed
         d = self.seed_dir(seed) / stage
+        tag = f"[{stage}]" if of is None else f"[{stage}] stage {of[0]} of {of[1]}:"
         if stage == rundir.RULES_DIR:
-            log("[rules] rule-based successive jumping, 3000 steps")
+            log(f"{tag} rule-based successive jumping, 3000 steps")
             run_rules_stage(
                 d, backend=backend, engine=self.engine, scene=self.terrains.scene
             )
@@ -314,7 +318,7 @@ class Reproduction:
                 needs, {s: d.parent / s for s in needs}, cfg.model
             )
         resume = rundir.is_run(d)
-        log(f"[{stage}] {'resuming' if resume else 'training'}: {gens} generations")
+        log(f"{tag} {'resuming' if resume else 'training'}: {gens} generations")
         res = train(
             cfg, d, resume=resume, backend=backend, progress=progress, frozen=frozen
         )
@@ -322,6 +326,7 @@ class Reproduction:
             why = ", ".join(f"{k} {v}" for k, v in res.stopped.items())
             log(f"[{stage}] the optimizer stopped at generation {res.generation}: "
                 f"{why}")  # fmt: skip
+        log(f"{tag} evaluating its best genome")
         t0 = time.perf_counter()
         ev = evaluate_run(d, backend=backend, eval_dir=d / rundir.EVAL)
         run_cfg, beh, best = rundir.load_run(d)
