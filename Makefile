@@ -1,5 +1,6 @@
 # Two commands on a fresh machine with Python 3.11 and make:
-#   make demo   create .venv, install, run the main job on a small budget
+#   make demo   create .venv, install what the demo needs (extra video), run
+#               the main job on a small budget
 #   make test   create .venv, install with test extras, run the whole suite
 PYTHON ?= python3
 VENV := .venv
@@ -11,11 +12,16 @@ $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
 
-$(VENV)/.installed: pyproject.toml | $(BIN)/python
+# one stamp per set of extras: the demo needs neither the test tools nor Ray
+$(VENV)/.demo-installed: pyproject.toml | $(BIN)/python
+	$(BIN)/python -m pip install --quiet -e '.[video]'
+	touch $@
+
+$(VENV)/.test-installed: pyproject.toml | $(BIN)/python
 	$(BIN)/python -m pip install --quiet -e '.[test]'
 	touch $@
 
-demo: $(VENV)/.installed
+demo: $(VENV)/.demo-installed
 	mkdir -p demo
 	$(BIN)/locustjump model --out demo/locust.xml --force
 	# the paper's stages on the small demo budget, without the monolithic
@@ -24,16 +30,16 @@ demo: $(VENV)/.installed
 	# `make demo` continues an interrupted reproduction
 	$(BIN)/locustjump reproduce --budget demo --seed 0 --no-monolithic --out demo/reproduce
 
-test: $(VENV)/.installed typecheck
+test: $(VENV)/.test-installed typecheck
 	$(BIN)/ruff check src tests benchmarks scripts
 	$(BIN)/lint-imports --no-cache
 	$(BIN)/python -m pytest -q -rs  # -rs: say why a test was skipped
 
 # mypy as [tool.mypy] in pyproject.toml says: strict on sim, evo and rundir
-typecheck: $(VENV)/.installed
+typecheck: $(VENV)/.test-installed
 	$(BIN)/mypy
 
-bench: $(VENV)/.installed
+bench: $(VENV)/.demo-installed
 	$(BIN)/python benchmarks/throughput.py
 	$(BIN)/python benchmarks/generation.py --behaviour kick
 	$(BIN)/python benchmarks/generation.py --behaviour getup --generations 4 --warmup 1
