@@ -2,11 +2,13 @@
 re-simulates for a video and gets a Gymnasium environment without any other
 module knowing it: the behaviour's hooks are the whole interface."""
 
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 import pytest
 
+from helpers import run_cli
 from locustjump import rundir
 from locustjump import tasks as behaviours
 from locustjump.evo import RCGAParams
@@ -16,21 +18,37 @@ from locustjump.rundir.config import TrainConfig
 from locustjump.runs.trainer import train
 from locustjump.sim.controller import MLP
 from locustjump.tasks import Behaviour, register_behaviour
+from locustjump.tasks.base import CommonOptions, option
 from locustjump.tasks.kick import ready_start
 
 
+@dataclass(frozen=True)
+class StandOptions(CommonOptions):
+    #: control steps at the start that do not count
+    settle_steps: int = option(0, "steps that do not count (default 0)", "STEPS")
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if not 0 <= self.settle_steps < StandTall.n_steps:
+            raise ValueError(
+                f"settle_steps must be in [0, 200), got {self.settle_steps}"
+            )
+
+
 class StandTall(Behaviour):
-    """Stand as tall as possible for 200 steps: fitness = mean body height."""
+    """Stand as tall as possible for 200 steps: fitness = mean body height
+    (after ``settle_steps``)."""
 
     name = "stand-tall"
     n_steps = 200
     record = ("qpos",)
+    Options = StandOptions
 
     def start_states(self, p):
         return ready_start(p)
 
     def episode_fitness(self, res, p):
-        return res["qpos"][:, 1:, 2].mean(axis=1)
+        return res["qpos"][:, 1 + self.options.settle_steps :, 2].mean(axis=1)
 
     def metrics(self, res, p, genome, *, backend=None) -> dict[str, Any]:
         return {"fitness": float(self.fitness(res, p)[0]),
@@ -84,3 +102,31 @@ def test_a_new_behaviour_gets_an_environment(stand, tmp_path):
     # the default reward is sparse: the episode's fitness at its last step
     assert all(r == 0.0 for r in rewards[:-1]) and len(rewards) == 200
     assert total == best.fitness
+
+
+def test_a_new_behaviours_option_is_an_option_of_train(stand, tmp_path):
+    """An option the behaviour declares (issue #48: the CLI special-cased the
+    composed one's) is train's --NAME, checked by its Options, recorded."""
+    out = tmp_path / "s"
+    argv = ["train", "stand-tall", "--generations", "1", "--population", "4",
+            "--quiet", "--out", str(out)]  # fmt: skip
+    r = run_cli(*argv, "--settle-steps", "50")
+    assert r.returncode == 0, r.stderr
+    cfg = rundir.load_config(out / rundir.CONFIG)
+    assert cfg.options == StandOptions(settle_steps=50)
+    assert "\nsettle_steps = 50\n" in (out / rundir.CONFIG).read_text()
+    bad = run_cli(*argv[:-1], str(tmp_path / "b"), "--settle-steps", "200")
+    assert (bad.returncode, bad.stderr) == (
+        2,
+        "locustjump: error: --settle-steps: "
+        "settle_steps must be in [0, 200), got 200\n",
+    )
+    other = run_cli(
+        "train", "kick", "--settle-steps", "5", "--out", str(tmp_path / "k")
+    )
+    assert (other.returncode, other.stderr) == (
+        2, "locustjump: error: --settle-steps: only the stand-tall behaviour "
+        "takes it, not 'kick'\n")  # fmt: skip
+    assert not (tmp_path / "b").exists() and not (tmp_path / "k").exists()
+    help = run_cli("train", "--help").stdout
+    assert "--settle-steps STEPS" in help and "stand-tall: steps that do not" in help

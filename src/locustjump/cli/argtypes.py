@@ -38,13 +38,25 @@ def _int_at_least(name: str, lo: int):
     return parse
 
 
-def _substeps(text: str) -> tuple[int, ...]:
-    try:
-        return tuple(int(t) for t in text.split(","))
-    except ValueError:
-        raise argparse.ArgumentTypeError(
-            f"--score-substeps must be integers separated by commas, got {text!r}"
-        ) from None
+def _int_list(name: str):
+    def parse(text: str) -> tuple[int, ...]:
+        return _as(lambda t: tuple(int(v) for v in t.split(",")),
+                   "integers separated by commas", name, text)  # fmt: skip
+
+    return parse
+
+
+def option_type(name: str, default: object):
+    """The argument type of option ``name`` (a behaviour's, declared with
+    :func:`locustjump.tasks.base.option`) whose default is ``default``: the
+    value's form only; the behaviour's ``Options`` checks its range."""
+    if isinstance(default, int):
+        return _int_at_least(name, -INT_MAX - 1)
+    if isinstance(default, float):
+        return _finite_float(name)
+    if isinstance(default, tuple):
+        return _int_list(name)
+    return str
 
 
 def _seeds(text: str) -> list[int]:

@@ -118,8 +118,11 @@ def cmd_train(args: argparse.Namespace) -> int:
         population=args.population,
         generations=args.generations,
         engine=args.engine,
-        switch_every=args.switch_every,
-        score_substeps=args.score_substeps,
+        options={
+            name: value
+            for name in args.behaviour_options
+            if (value := getattr(args, f"option_{name}")) is not None
+        },
         scene=args.scene,
         terrain_seed=args.terrain_seed,
         terrains=args.terrains,

@@ -1,16 +1,19 @@
 """Options that several commands share: the backend, the optimizer and engine,
-the creature's struts, and what each behaviour of ``train`` is."""
+the creature's struts, what each behaviour of ``train`` is and the options
+the behaviours declare."""
 
 from __future__ import annotations
 
 import argparse
+import dataclasses
 
-from locustjump.cli.argtypes import _int_at_least, _positive_float
+from locustjump.cli.argtypes import _int_at_least, _positive_float, option_type
 from locustjump.evo import optimizer_kinds
 from locustjump.sim.engine.backends import BACKENDS
 from locustjump.sim.engine.job import ENGINES
 from locustjump.sim.scene import scene_names
 from locustjump.tasks import behaviour_class, behaviour_names
+from locustjump.tasks.base import OPTION_HELP, option_fields
 
 
 def strut_stiffness_arg(p: argparse.ArgumentParser) -> None:
@@ -124,3 +127,55 @@ def behaviours_help() -> str:
         what = _BEHAVIOUR_HELP.get(name, doc[0] if doc else name)
         lines.append(f"  {name}: {what}")
     return "\n".join(lines)
+
+
+def option_flag(name: str) -> str:
+    """The command line's flag of a behaviour's option ``name``."""
+    return "--" + name.replace("_", "-")
+
+
+def behaviour_options() -> dict[str, tuple[dataclasses.Field, tuple[str, ...]]]:
+    """Every option a registered behaviour declares
+    (:func:`locustjump.tasks.base.option`): its name -> (its field, the
+    behaviours that take it), in the order first declared."""
+    found: dict[str, tuple[dataclasses.Field, tuple[str, ...]]] = {}
+    for b in behaviour_names():
+        for f in option_fields(behaviour_class(b).Options):
+            field, takers = found.get(f.name, (f, ()))
+            found[f.name] = (field, (*takers, b))
+    return found
+
+
+def takers(name: str) -> str:
+    """Who takes option ``name``, for an error: "the composed behaviour takes
+    it", "the a and b behaviours take it"."""
+    who = behaviour_options().get(name, (None, ()))[1]
+    if len(who) == 1:
+        return f"the {who[0]} behaviour takes it"
+    return f"the {' and '.join(who) or 'no'} behaviours take it"
+
+
+def add_behaviour_options(p: argparse.ArgumentParser) -> None:
+    """``train``'s ``--NAME`` for every option a behaviour declares; the
+    names given are ``args.behaviour_options``, their values ``args.option_NAME``
+    (``None`` if not given)."""
+    every = set(behaviour_names())
+    taken = {s for a in p._actions for s in a.option_strings}
+    names = []
+    for name, (field, who) in behaviour_options().items():
+        flag = option_flag(name)
+        if flag in taken:  # a plugin's option may not shadow train's own
+            raise ValueError(
+                f"behaviour {who[0]!r} declares the option {name!r}, but train's "
+                f"{flag} is another; rename it"
+            )
+        help = field.metadata[OPTION_HELP]
+        p.add_argument(
+            flag,
+            dest=f"option_{name}",
+            type=option_type(flag, field.default),
+            metavar=field.metadata["metavar"],
+            help=help if set(who) == every else f"{', '.join(who)}: {help}",
+        )
+        names.append(name)
+    p.set_defaults(behaviour_options=tuple(names))

@@ -11,12 +11,12 @@ from locustjump.cli.argtypes import (
     _int_at_least,
     _positive_float,
     _seeds,
-    _substeps,
     _terrain_seeds,
     out_path,
 )
 from locustjump.cli.options import (
     add_backend,
+    add_behaviour_options,
     add_optimizer,
     add_scene,
     behaviours_help,
@@ -200,21 +200,7 @@ def build_parser() -> argparse.ArgumentParser:
             help=f"composed: the {name} run whose best network it switches to "
             "(required for composed)",
         )
-    p.add_argument(
-        "--switch-every",
-        type=_int_at_least("--switch-every", 1),
-        metavar="STEPS",
-        help="composed: control steps between two decisions of the switcher "
-        "(default 120, the paper's; beyond the paper, recorded in config.toml)",
-    )
-    p.add_argument(
-        "--score-substeps",
-        type=_substeps,
-        metavar="S,S",
-        help="beyond the paper: also score every genome with the physics at these "
-        "substeps a control step; its fitness is the worst of all resolutions "
-        "(default: the model's substeps only)",
-    )
+    add_behaviour_options(p)
     p.set_defaults(func=cmd.cmd_train)
 
     p = sub.add_parser(

@@ -4,13 +4,17 @@ from __future__ import annotations
 
 import dataclasses
 import os
+from collections.abc import Mapping
 from pathlib import Path
+from typing import Any
 
 from locustjump import rundir
+from locustjump.cli.options import option_flag, takers
 from locustjump.errors import UserError
 from locustjump.evo import params_class
 from locustjump.rundir.config import TrainConfig, terrains_from_table
 from locustjump.sim.scene import Scene, Terrains, scene_class, scene_names
+from locustjump.tasks.base import option_fields
 
 
 def resolve_config(
@@ -24,8 +28,7 @@ def resolve_config(
     population: int | None = None,
     generations: int | None = None,
     engine: str | None = None,
-    switch_every: int | None = None,
-    score_substeps: tuple[int, ...] | None = None,
+    options: Mapping[str, Any] | None = None,
     scene: str | None = None,
     terrain_seed: int | None = None,
     terrains: int | None = None,
@@ -34,7 +37,8 @@ def resolve_config(
     ``config.toml``, or the defaults overridden by a ``config`` file, and then
     by the options given (resuming, :func:`~locustjump.runs.trainer.train`
     refuses any that differ from the run's but ``generations``, which may
-    extend it)."""
+    extend it). ``options``: the behaviour's options given (name -> value;
+    those its ``Options`` declares)."""
 
     if resume:  # the run's own config; the trainer checks what differs
         if config is not None:
@@ -72,18 +76,11 @@ def resolve_config(
     if engine is not None:
         cfg = cfg.replace(engine=engine)
     cfg = cfg.replace(scene=terrains_arg(scene, terrain_seed, terrains, cfg.scene))
-    if switch_every is not None:
-        if not hasattr(cfg.options, "switch_every"):
-            raise UserError(
-                f"--switch-every: only the composed behaviour switches, "
-                f"not {behaviour!r}"
-            )
-        opts = _checked("--switch-every", dataclasses.replace, cfg.options,
-                        switch_every=switch_every)  # fmt: skip
-        cfg = cfg.replace(options=opts)
-    if score_substeps is not None:
-        opts = _checked("--score-substeps", dataclasses.replace, cfg.options,
-                        score_substeps=score_substeps)  # fmt: skip
+    for name, value in (options or {}).items():
+        flag = option_flag(name)
+        if name not in {f.name for f in option_fields(type(cfg.options))}:
+            raise UserError(f"{flag}: only {takers(name)}, not {behaviour!r}")
+        opts = _checked(flag, dataclasses.replace, cfg.options, **{name: value})
         cfg = cfg.replace(options=opts)
     if population is not None:
         opt = _checked("--population", cfg.optimizer.replace, population=population)

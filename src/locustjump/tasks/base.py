@@ -31,6 +31,37 @@ if TYPE_CHECKING:
 #: the finest physics a fitness may also be scored at (substeps a control step)
 MAX_SCORE_SUBSTEPS = 48
 
+#: the metadata key of a behaviour's option that training offers by name
+OPTION_HELP = "help"
+
+
+def option(default: Any, help: str, metavar: str) -> Any:
+    """A field of a behaviour's ``Options`` that training offers by name (the
+    command line as ``--NAME``, dashes for underscores): ``help`` says what
+    it is and its default, ``metavar`` what its value looks like; its type is
+    the default's (an int, a float, a str, or a tuple of ints); the
+    ``Options`` class checks its value (``ValueError``)."""
+    ok = isinstance(default, int | float | str) and not isinstance(default, bool)
+    if not (ok or _ints(default)):
+        raise TypeError(
+            f"an option's default is an int, a float, a str or a tuple of ints, "
+            f"not {default!r}"
+        )
+    return dataclasses.field(
+        default=default, metadata={OPTION_HELP: help, "metavar": metavar}
+    )
+
+
+def _ints(value: Any) -> bool:
+    return isinstance(value, tuple) and all(
+        isinstance(v, int) and not isinstance(v, bool) for v in value
+    )
+
+
+def option_fields(options: type) -> tuple[dataclasses.Field, ...]:
+    """The fields of ``Options`` class ``options`` declared with :func:`option`."""
+    return tuple(f for f in dataclasses.fields(options) if OPTION_HELP in f.metadata)
+
 
 @dataclass(frozen=True)
 class CommonOptions:
@@ -39,7 +70,13 @@ class CommonOptions:
     #: also score every genome with the physics at these substeps a control
     #: step; its fitness is then the worst over them and the model's own (a
     #: controller that only works at one resolution of the physics scores low)
-    score_substeps: tuple[int, ...] = ()
+    score_substeps: tuple[int, ...] = option(
+        (),
+        "beyond the paper: also score every genome with the physics at these "
+        "substeps a control step; its fitness is the worst of all resolutions "
+        "(default: the model's substeps only)",
+        "S,S",
+    )
 
     def __post_init__(self) -> None:
         bad = [s for s in self.score_substeps if not 1 <= s <= MAX_SCORE_SUBSTEPS]
@@ -96,7 +133,9 @@ class Behaviour:
     ``memory_labels``           what memory[0] indexes (a video's caption)
     ``gym_id``, :meth:`reward`  its Gymnasium environment and per-step reward
     ``Options``                 its settings beyond the paper (a frozen
-                                dataclass; ``[options]`` of ``config.toml``)
+                                dataclass; ``[options]`` of ``config.toml``;
+                                a field declared with :func:`option` is an
+                                option of ``train``)
     :meth:`episode_terms`       the named terms its fitness adds up (default:
                                 none)
     ==========================  ================================================

@@ -44,7 +44,7 @@ from locustjump.sim.controller import MLP, Controller, MLPWeights
 from locustjump.sim.engine.job import RolloutResult, StartStates
 from locustjump.sim.kernels import soa
 from locustjump.sim.scene import Flat, Scene
-from locustjump.tasks.base import Behaviour, CommonOptions, StepReward
+from locustjump.tasks.base import Behaviour, CommonOptions, StepReward, option
 from locustjump.tasks.getup import SUCCESS_UZ, rolled_starts
 from locustjump.tasks.reference import RulesRun
 
@@ -95,7 +95,12 @@ class SwitchOptions(CommonOptions):
     """The composed behaviour's settings beyond the paper (``[options]``)."""
 
     #: control steps between two decisions of the switcher (paper: 120)
-    switch_every: int = SWITCH_EVERY
+    switch_every: int = option(
+        SWITCH_EVERY,
+        "control steps between two decisions of the switcher (default "
+        f"{SWITCH_EVERY}, the paper's; beyond the paper, recorded in config.toml)",
+        "STEPS",
+    )
 
     def __post_init__(self) -> None:
         super().__post_init__()
