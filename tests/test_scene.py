@@ -116,3 +116,21 @@ def test_scene_registry():
         register_scene(Nameless)
     with pytest.raises(TypeError):
         Scene()  # abstract: a scene writes its MJCF
+
+
+def test_terrains_from_seed_1_are_terrains():
+    """A seeded scene whose seed is 1 has terrains like any other (it was
+    taken for a seedless one: `Debris(seed=1).with_seed(1)` is itself, so
+    `train --scene debris --terrain-seed 1 --terrains 4` was refused); a
+    seedless scene that is not flat has none to hold out."""
+    from locustjump.present.episodes import _scenes
+    from locustjump.sim.scene import Debris, Terrains
+    from locustjump.tasks import get_behaviour
+
+    t = Terrains(Debris(seed=1), count=4)
+    assert [s.seed for s in t.scenes] == [1, 2, 3, 4]
+    assert Debris(seed=1).seeded and not Flat().seeded and not Step().seeded
+    beh = get_behaviour("kick", terrains=Terrains(Debris(seed=1)))
+    assert [s.seed for s in _scenes(beh, [1, 7], None)] == [1, 7]
+    with pytest.raises(ValueError, match="the step scene has one terrain, not 2"):
+        Terrains(Step(), count=2)

@@ -144,7 +144,7 @@ def _scenes(
     base = beh.terrains.scene if scene is None else scene
     if seeds is None:
         return list(beh.terrains.scenes) if scene is None else [scene]
-    if base.with_seed(1) == base:
+    if not base.seeded:
         raise ValueError(
             f"terrain_seeds: the {base.name} scene has one terrain (give a scene "
             "with terrains, e.g. Debris())"

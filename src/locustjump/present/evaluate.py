@@ -193,7 +193,7 @@ def evaluate_terrains(
         backend = ThreadBackend()
     cfg, beh, best = rundir.load_run(Path(path))
     base = beh.terrains.scene if scene is None else scene
-    if base.with_seed(1) == base:
+    if not base.seeded:
         raise UserError(
             f"--terrain-seeds: the {base.name} scene has one terrain "
             "(e.g. --scene debris)"

@@ -297,7 +297,7 @@ def _write_report(d: Path, backend: Backend | None, page: Path) -> Path:
                 **ev.metrics,
             }
             body = [_run_section(d, metrics, eval_dir=Path(tmp))]
-        if not rundir.load_config(d / rundir.CONFIG).scene.scene.is_flat:
+        if rundir.load_config(d / rundir.CONFIG).scene.scene.seeded:
             te = evaluate_terrains(d, list(HELD_OUT_SEEDS), backend=backend)
             md = held_out_markdown({ev.behaviour: te.to_dict()})
             body.append(markdown_to_html("\n".join(md), d))

@@ -333,7 +333,7 @@ class Reproduction:
         extra = reporter_of(beh).extra_evaluation(
             beh, d, best.genome, run_cfg.model, backend=backend, engine=run_cfg.engine
         )
-        if not beh.terrains.scene.is_flat:  # on terrains training never saw
+        if beh.terrains.scene.seeded:  # on terrains training never saw
             log(f"[{stage}] scoring on {len(HELD_OUT_SEEDS)} held-out terrains")
             extra["held_out"] = evaluate_terrains(
                 d, list(HELD_OUT_SEEDS), backend=backend

@@ -72,10 +72,15 @@ class Scene(ABC):
         """The plain floor: heights are 0 everywhere (fitness as in the paper)."""
         return False
 
+    @property
+    def seeded(self) -> bool:
+        """Whether it has terrains to choose from (a ``seed`` field)."""
+        return "seed" in {f.name for f in dataclasses.fields(self)}
+
     def with_seed(self, seed: int) -> Scene:
         """The same scene with terrain seed ``seed`` (a scene without a
         ``seed`` field has one terrain: itself)."""
-        if "seed" not in {f.name for f in dataclasses.fields(self)}:
+        if not self.seeded:
             return self
         # a subclass's field, which Scene itself does not declare
         return dataclasses.replace(self, seed=seed)  # type: ignore[call-arg]
@@ -393,7 +398,7 @@ class Terrains:
                 f"aggregate must be one of {', '.join(AGGREGATES)}, "
                 f"got {self.aggregate!r}"
             )
-        if self.count > 1 and self.scene.with_seed(1) == self.scene:
+        if self.count > 1 and not self.scene.seeded:
             raise ValueError(
                 f"the {self.scene.name} scene has one terrain, not {self.count}"
             )
