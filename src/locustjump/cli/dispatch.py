@@ -17,7 +17,7 @@ import traceback
 from collections.abc import Sequence
 from pathlib import Path
 
-from locustjump import rundir
+from locustjump import plugins, rundir
 from locustjump.cli.parser import build_parser
 from locustjump.errors import UserError
 from locustjump.version import __version__
@@ -73,22 +73,45 @@ def _log(args, argv: Sequence[str]) -> str:
         return "nowhere (no writable directory; rerun with --debug)"
 
 
+def plugin_modules(argv: list[str]) -> tuple[list[str], list[str]]:
+    """``--plugin MODULE`` (or ``--plugin=MODULE``), anywhere on the command
+    line and as often as needed, taken out of ``argv``: (modules, the rest).
+    They are imported before the parser is built, since what they register
+    makes its choices (behaviours, optimizers, scenes, options)."""
+    modules, rest = [], []
+    it = iter(argv)
+    for a in it:
+        if a == "--plugin":
+            module = next(it, None)
+            if module is None:
+                raise UserError("--plugin: expected a module name (e.g. mypkg.mod)")
+            modules.append(module)
+        elif a.startswith("--plugin="):
+            modules.append(a.removeprefix("--plugin="))
+        else:
+            rest.append(a)
+    return modules, rest
+
+
 def dispatch(argv: Sequence[str] | None = None) -> int:
     """``locustjump ARGV``: the exit status."""
     argv = list(sys.argv[1:] if argv is None else argv)
     debug = "--debug" in argv
     argv = [a for a in argv if a != "--debug"]
-    parser = build_parser()
-    # an unknown option before the command: name it (argparse would first
-    # complain that the command is missing)
-    if (
-        argv
-        and argv[0].startswith("-")
-        and argv[0] not in ("-h", "--help", "--version")
-    ):
-        parser.error(f"unrecognized arguments: {argv[0]}")
     args = None
     try:
+        modules, argv = plugin_modules(argv)
+        for module in modules:
+            plugins.load_module(module)
+        parser = build_parser()
+        # an unknown option before the command: name it (argparse would first
+        # complain that the command is missing)
+        if (
+            argv
+            and argv[0].startswith("-")
+            and argv[0] not in ("-h", "--help", "--version")
+        ):
+            parser.error(f"unrecognized arguments: {argv[0]}")
         args = parser.parse_args(argv)
         return args.func(args)
     except SystemExit:

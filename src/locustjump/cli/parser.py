@@ -68,6 +68,14 @@ def build_parser() -> argparse.ArgumentParser:
         help="on an unexpected error, also print its traceback (anywhere on the "
         "command line)",
     )
+    ap.add_argument(
+        "--plugin",
+        metavar="MODULE",
+        help="import MODULE first: the optimizers, behaviours and scenes it "
+        "registers are then known (anywhere on the command line, repeatable; "
+        "installed plugins' entry points need none: docs/architecture.md, "
+        "Plugins)",
+    )
     sub = ap.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
     p = sub.add_parser(

@@ -11,13 +11,16 @@ kind       what                                        module
 A new optimizer subclasses :class:`Optimizer` (it writes ``_ask``, ``_tell``,
 ``_state``, ``_set_state``; the base does the bookkeeping) and has a frozen
 settings dataclass; :func:`register` makes it available to ``TrainConfig``,
-``config.toml`` and the command line by its ``kind``.
+``config.toml`` and the command line by its ``kind``. Another package's
+optimizers are found through the entry point group ``locustjump.optimizers``
+(:mod:`locustjump.plugins`), loaded the first time a kind is not known.
 """
 
 from __future__ import annotations
 
 from typing import Any
 
+from locustjump import plugins
 from locustjump.evo.base import (
     Optimizer,
     OptimizerParams,
@@ -52,22 +55,30 @@ for _cls in (RCGA, CMAES, RandomSearch):
 
 
 def optimizer_kinds() -> tuple[str, ...]:
-    """The kinds known now (``--optimizer`` choices)."""
+    """Every kind, the plugins' too (``--optimizer`` choices)."""
+    plugins.load(plugins.OPTIMIZERS, register)
     return tuple(_REGISTRY)
 
 
 def params_class(kind: object) -> type[OptimizerParams]:
     """The settings dataclass of optimizer ``kind`` (``ValueError`` if it
     names none: ``TrainConfig`` passes the ``kind`` of whatever it is given)."""
+    if isinstance(kind, str) and kind not in _REGISTRY:
+        plugins.load(plugins.OPTIMIZERS, register)
     if isinstance(kind, str) and kind in _REGISTRY:
         return _REGISTRY[kind].Params
     raise ValueError(f"unknown optimizer {kind!r}; choose from {', '.join(_REGISTRY)}")
 
 
+def optimizer_class(kind: str) -> type[Optimizer]:
+    """The class of optimizer ``kind`` (``ValueError`` if unknown)."""
+    params_class(kind)
+    return _REGISTRY[kind]
+
+
 def make_optimizer(params: Any, num_params: int, seed: int) -> Optimizer:
     """A fresh optimizer for settings ``params`` (its ``kind`` picks the class)."""
-    params_class(params.kind)
-    return _REGISTRY[params.kind](num_params, params, seed)
+    return optimizer_class(params.kind)(num_params, params, seed)
 
 
 __all__ = [
@@ -80,6 +91,7 @@ __all__ = [
     "RandomSearch",
     "RandomSearchParams",
     "make_optimizer",
+    "optimizer_class",
     "optimizer_kinds",
     "params_class",
     "register",

@@ -21,6 +21,9 @@
     terrains = 4         # aggregate ("mean" or "min"); default: the flat floor
     aggregate = "mean"
 
+    [plugins]            # only with a plugin's optimizer, behaviour or scene:
+    "myplugin.hill" = "myplugin"   # module = its distribution (not hashed)
+
 Older spellings (``[rcga]``, ``model.engine``, ``simple``) are read by
 :mod:`locustjump.rundir.migrations` and hash as they did, so older runs stay
 valid. Files are read and written by :mod:`locustjump.rundir`.
@@ -35,6 +38,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any, TypeVar
 
+from locustjump import plugins
 from locustjump.errors import UserError
 from locustjump.evo import RCGAParams, params_class
 from locustjump.rundir.migrations import (
@@ -123,7 +127,17 @@ class TrainConfig:
         if dataclasses.fields(self.options):
             d["options"] = _table(self.options)
         d["scene"] = scene_table(self.scene)
+        if used := self.plugin_modules():
+            d["plugins"] = used
         return d
+
+    def plugin_modules(self) -> dict[str, str]:
+        """The plugin modules its optimizer, behaviour, options and scene come
+        from, each with its distribution (:func:`locustjump.plugins.provenance`)."""
+        return plugins.provenance(
+            (type(self.optimizer), behaviour_class(self.behaviour),
+             type(self.options), type(self.scene.scene))
+        )  # fmt: skip
 
     def hash(self) -> str:
         """Identity of the experiment: everything but ``generations`` (a run may
@@ -132,6 +146,7 @@ class TrainConfig:
         made before keep their hash."""
         d = self.to_dict()
         del d["generations"], d["format"]
+        d.pop("plugins", None)  # where the classes came from, not what they do
         if self.scene == Terrains():  # runs made before scenes keep their hash
             del d["scene"]
         d = hashed_config(
@@ -145,7 +160,22 @@ class TrainConfig:
 
     @classmethod
     def from_dict(cls, d: dict[str, Any], source: str) -> TrainConfig:
-        """Checked conversion; a ``UserError`` names ``source`` and the key."""
+        """Checked conversion; a ``UserError`` names ``source`` and the key
+        (or the plugin the file names that is missing here, if one is)."""
+        d = dict(d)
+        used = d.pop("plugins", {})
+        if not (
+            isinstance(used, dict) and all(isinstance(v, str) for v in used.values())
+        ):
+            raise UserError(f"{source}: plugins must be a table of strings")
+        try:  # the lookups load the plugins' entry points
+            return cls._from_dict(d, source)
+        except UserError:
+            plugins.check_loaded(used, source)  # the reason, if it is one
+            raise
+
+    @classmethod
+    def _from_dict(cls, d: dict[str, Any], source: str) -> TrainConfig:
         top = {"behaviour": "kick", "seed": 0, "generations": 1000,
                "frozen_digest": "", "engine": DEFAULT_ENGINE}  # fmt: skip
         kwargs: dict[str, Any] = {}

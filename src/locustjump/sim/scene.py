@@ -11,7 +11,8 @@ are given in body lengths of the creature, so a scene scales with it.
 
 A new scene (say seeded random boxes on the floor) is a subclass with its
 parameters as fields and a ``mjcf`` method, registered with
-``@register_scene``; it touches no creature code. Its geoms inherit the
+``@register_scene`` (another package's: :mod:`locustjump.plugins`); it
+touches no creature code. Its geoms inherit the
 world's contact model (``contype="0" conaffinity="0"``: only the pairs
 collide); each geom it lists in ``SceneMJCF.geoms`` gets one pair per
 creature geom, so the number of pairs is their product. The solver takes the
@@ -30,6 +31,7 @@ from typing import ClassVar
 
 import numpy as np
 
+from locustjump import plugins
 from locustjump.sim import names, rubble
 from locustjump.sim.rubble import HEIGHT_CELL_BL
 
@@ -356,12 +358,15 @@ register_scene(Debris)
 
 
 def scene_names() -> tuple[str, ...]:
-    """Every registered scene's name."""
+    """Every registered scene's name, the plugins' too."""
+    plugins.load(plugins.SCENES, register_scene)
     return tuple(_REGISTRY)
 
 
 def scene_class(name: str) -> type[Scene]:
     """The class registered as ``name`` (``ValueError`` if there is none)."""
+    if name not in _REGISTRY:
+        plugins.load(plugins.SCENES, register_scene)
     try:
         return _REGISTRY[name]
     except KeyError:

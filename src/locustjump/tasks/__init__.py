@@ -7,6 +7,9 @@ compared with.
 the command line accepts. A new behaviour is a subclass registered with
 :func:`register_behaviour`: training, evaluation, figures, videos, the
 results table and the Gymnasium environment then work for it unchanged.
+Another package's behaviours are found through the entry point group
+``locustjump.tasks`` (:mod:`locustjump.plugins`), loaded the first time a
+name is not known.
 """
 
 from __future__ import annotations
@@ -15,6 +18,7 @@ from typing import Any
 
 import numpy as np
 
+from locustjump import plugins
 from locustjump.sim.scene import Terrains
 from locustjump.tasks.base import Behaviour
 from locustjump.tasks.ceiling import CEILING
@@ -54,12 +58,15 @@ SIMPLE_BEHAVIOURS: tuple[str, ...] = SIMPLE
 
 
 def behaviour_names() -> tuple[str, ...]:
-    """Every registered behaviour's name."""
+    """Every registered behaviour's name, the plugins' too."""
+    plugins.load(plugins.TASKS, register_behaviour)
     return tuple(_REGISTRY)
 
 
 def behaviour_class(name: str) -> type[Behaviour]:
     """The class registered as ``name`` (``ValueError`` if there is none)."""
+    if name not in _REGISTRY:
+        plugins.load(plugins.TASKS, register_behaviour)
     try:
         return _REGISTRY[name]
     except KeyError:
