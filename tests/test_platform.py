@@ -50,7 +50,10 @@ class StandTall(Behaviour):
     def episode_fitness(self, res, p):
         return res["qpos"][:, 1 + self.options.settle_steps :, 2].mean(axis=1)
 
-    def metrics(self, res, p, genome, *, backend=None) -> dict[str, Any]:
+    def metrics(self, res, p, genome, reference=None) -> dict[str, Any]:
+        # Behaviour.metrics' signature: evaluate passes the reference (None
+        # here: no reference_steps) positionally, whatever the behaviour
+        assert reference is None
         return {"fitness": float(self.fitness(res, p)[0]),
                 "max_height_m": float(res["qpos"][0, :, 2].max())}  # fmt: skip
 

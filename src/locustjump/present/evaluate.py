@@ -85,11 +85,7 @@ def evaluate_run(
     # fitness: over every training terrain; metrics, figures: the first one's
     res = res.head(len(beh.start_states(p)))
     reference = beh.reference(p, backend=backend, engine=cfg.engine)
-    metrics = (  # a behaviour without a reference need not take one
-        beh.metrics(res, p, best.genome)
-        if reference is None
-        else beh.metrics(res, p, best.genome, reference)
-    )
+    metrics = beh.metrics(res, p, best.genome, reference)
     episodes = Episodes(beh, res, p, reference)
     return _write(
         cfg, best, episodes, float(fit[0]), plain(metrics), Path(eval_dir), elsewhere
@@ -208,8 +204,7 @@ def evaluate_terrains(
             record=beh.eval_record, label=f"terrain {s}",
         )  # fmt: skip
         ref = here.reference(p, backend=backend, engine=cfg.engine)
-        m = (here.metrics(res, p, best.genome) if ref is None
-             else here.metrics(res, p, best.genome, ref))  # fmt: skip
+        m = here.metrics(res, p, best.genome, ref)
         fits.append(float(fit[0]))
         marks.append(here.scene in trained)
         metrics.append(plain(m))
