@@ -160,6 +160,13 @@ def test_bad_params_are_named(kwargs, match):
         RCGAParams(**kwargs)
 
 
+def test_a_zero_init_scale_of_either_sign_starts_at_zero():
+    # -0.0 passes the range check [0, ...]: numpy's uniform(0.0, -0.0) refuses
+    # its bounds (found by tests/test_fuzz.py's config files)
+    for zero in (0.0, -0.0):
+        assert not RCGA(3, RCGAParams(population=4, init_scale=zero), 0).ask().any()
+
+
 def test_tell_checks_its_input():
     ga = RCGA(3, RCGAParams(population=4), 0)
     with pytest.raises(RuntimeError):

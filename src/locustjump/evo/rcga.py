@@ -254,9 +254,8 @@ class RCGA(Optimizer):
             return self._children(p.population - p.elite)
         if self._init is not None:
             return self._init.copy()
-        return self.rng.uniform(
-            -p.init_scale, p.init_scale, size=(p.population, self.num_params)
-        )
+        s = abs(p.init_scale)  # -0.0 is in range; uniform(0.0, -0.0) refuses it
+        return self.rng.uniform(-s, s, size=(p.population, self.num_params))
 
     def _tell(self, genomes: np.ndarray, fitness: np.ndarray) -> np.ndarray:
         e = self.params.elite if self.generation > 0 else 0
