@@ -34,7 +34,7 @@ and fitness (``Successive``).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, ClassVar
+from typing import Any, ClassVar
 
 import numpy as np
 
@@ -47,9 +47,6 @@ from locustjump.sim.scene import Flat, Scene
 from locustjump.tasks.base import Behaviour, CommonOptions, StepReward, option
 from locustjump.tasks.getup import SUCCESS_UZ, rolled_starts
 from locustjump.tasks.reference import RulesRun
-
-if TYPE_CHECKING:
-    pass
 
 #: The simple behaviours, in the order of the switcher's outputs.
 SIMPLE = ("kick", "getup", "return-legs")

@@ -11,7 +11,7 @@
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Any, ClassVar
+from typing import Any, ClassVar
 
 import numpy as np
 
@@ -23,9 +23,6 @@ from locustjump.sim.scene import Flat, Scene
 from locustjump.tasks.base import Behaviour, StepReward
 from locustjump.tasks.reference import RulesRun
 from locustjump.tasks.starts import ready_state
-
-if TYPE_CHECKING:
-    pass
 
 
 def ready_start(p: lm.LocustParams, scene: Scene = Flat()) -> StartStates:

@@ -4,15 +4,12 @@ rule-based jumping, and the claim "about 2x as high"."""
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from locustjump.present.plots import trajectory_figure
 from locustjump.present.stages.base import Claim, Episodes, Reporter, fmt, yes
 from locustjump.rundir.layout import EVAL
 from locustjump.sim.analysis import find_jumps, ground_profile
-
-if TYPE_CHECKING:
-    pass
 
 FIGURE = "kick_vs_rules.png"  # Fig. 7
 #: The paper (Fig. 7): the evolved kick jumps about 2x as high as the rule.

@@ -3,14 +3,11 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from locustjump.present.plots import joint_angles_figure
 from locustjump.present.stages.base import Claim, Episodes, Reporter, yes
 from locustjump.rundir.layout import EVAL
-
-if TYPE_CHECKING:
-    pass
 
 FIGURE = "return_legs.png"  # Fig. 10
 #: What we count as "the legs return to phi" (stated in results.md).

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, ClassVar
+from typing import Any, ClassVar
 
 import numpy as np
 
@@ -17,9 +17,6 @@ from locustjump.rundir.layout import EVAL
 from locustjump.sim.analysis import find_jumps, ground_profile
 from locustjump.tasks.composed import SIMPLE, Composed
 from locustjump.tasks.monolithic import Monolithic
-
-if TYPE_CHECKING:
-    pass
 
 #: The paper (Fig. 12): every composed jump is more than 2x the rule's.
 PAPER_COMPOSED_RATIO = 2.0
