@@ -4,7 +4,6 @@ would catch what it is there to catch: an upward import, an import cycle."""
 import shutil
 import subprocess
 import sys
-import warnings
 from pathlib import Path
 
 import pytest
@@ -64,33 +63,3 @@ def test_an_import_cycle_breaks_the_acyclic_contract(tmp_path):
     r = _lint(tmp_path, ("tasks/rules.py", "from locustjump.tasks import kick"))
     assert r.returncode == 1
     assert "no import cycle between the modules of any package BROKEN" in r.stdout
-
-
-def test_old_module_paths_forward_to_the_new_modules():
-    import locustjump.runs.reproduce
-    import locustjump.tasks.kick
-
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        from locustjump.behaviours import kick
-        from locustjump.reproduce import reproduce
-    assert kick is locustjump.tasks.kick
-    assert reproduce is locustjump.runs.reproduce.reproduce
-    assert any("moved to locustjump.runs.reproduce" in str(w.message) for w in caught)
-
-
-def test_an_old_module_split_in_two_forwards_the_names_of_both():
-    import locustjump.tasks.reference
-    import locustjump.tasks.rules
-
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        from locustjump.rules import RuleController, RuleGetupController, run_rules
-    assert RuleController is locustjump.tasks.rules.RuleController
-    assert RuleGetupController is locustjump.tasks.rules.RuleGetupController
-    assert run_rules is locustjump.tasks.reference.run_rules
-    assert any(
-        "moved to locustjump.tasks.rules and locustjump.tasks.reference"
-        in str(w.message)
-        for w in caught
-    )

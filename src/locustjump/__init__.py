@@ -15,7 +15,6 @@ from locustjump import opengl as _opengl  # noqa: F401
 
 import importlib as _importlib
 
-from locustjump import moved
 from locustjump.version import __version__
 
 #: the public names, and the module each comes from: loaded when first used
@@ -54,8 +53,6 @@ def __getattr__(name: str):
 def __dir__() -> list[str]:
     return sorted({*globals(), *_MODULE_OF})
 
-
-moved.install()  # the module paths of 0.1 (locustjump.reproduce, ...)
 
 __all__ = [
     "__version__",
