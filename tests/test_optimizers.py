@@ -262,14 +262,11 @@ def test_one_seed_argument(kind):
         cls(3, params, seed=0.5)
 
 
-def test_rcga_rng_argument_still_works_but_warns():
-    p = RCGAParams(population=4)
-    with pytest.warns(DeprecationWarning, match="seed"):
-        old = RCGA(3, p, rng=7)
-    np.testing.assert_array_equal(old.ask(), RCGA(3, p, seed=7).ask())
-    with pytest.warns(DeprecationWarning):
-        gen = RCGA(3, p, rng=np.random.default_rng(7))
-    np.testing.assert_array_equal(gen.ask(), RCGA(3, p, seed=7).ask())
+def test_rcga_takes_a_seed_not_a_generator():
+    # the rng= argument (a generator or a seed) is gone: a generator where the
+    # seed goes is refused by name
+    with pytest.raises(TypeError, match="seed must be an int, got Generator"):
+        RCGA(3, RCGAParams(population=4), np.random.default_rng(7))
 
 
 def test_cma_stop_reasons_are_plain_and_leave_the_budget_to_the_trainer():

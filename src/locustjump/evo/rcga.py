@@ -34,7 +34,6 @@ Example::
 from __future__ import annotations
 
 import dataclasses
-import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any, ClassVar, Literal
@@ -202,9 +201,6 @@ class RCGA(Optimizer):
       seed: the seed of ``self.rng``, which makes every random choice.
       init: optional (population, num_params) initial population; default
         uniform in ``[-init_scale, init_scale]``.
-      rng: deprecated (the README once showed ``rng=0``): an int
-        is the seed, a ``numpy.random.Generator`` (also accepted in place of
-        ``seed``) is used as is; use ``seed``.
     """
 
     Params: ClassVar[type[RCGAParams]] = RCGAParams
@@ -216,27 +212,8 @@ class RCGA(Optimizer):
         params: RCGAParams = RCGAParams(),
         seed: int = 0,
         init: np.ndarray | None = None,
-        *,
-        rng: np.random.Generator | int | None = None,
     ):
-        if isinstance(seed, np.random.Generator):  # the old positional rng
-            seed, rng = 0, seed
-        given = None
-        if rng is not None:
-            warnings.warn(
-                "RCGA's rng argument is deprecated: pass seed=... (an int)",
-                DeprecationWarning,
-                stacklevel=2,
-            )
-            if seed != 0:
-                raise TypeError("RCGA: pass seed, not both seed and rng")
-            if isinstance(rng, np.random.Generator):
-                given = rng
-            else:
-                seed = rng
         super().__init__(num_params, params, seed)
-        if given is not None:
-            self.rng = given  # used as is, as before
         self.population = np.empty((0, self.num_params))
         self._init = None if init is None else np.array(init, dtype=np.float64)
         if self._init is not None and self._init.shape != (
