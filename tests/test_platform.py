@@ -11,6 +11,7 @@ import pytest
 from helpers import run_cli
 from locustjump import rundir
 from locustjump import tasks as behaviours
+from locustjump.errors import UserError
 from locustjump.evo import RCGAParams
 from locustjump.present.evaluate import evaluate_run
 from locustjump.present.render import playback_of
@@ -77,6 +78,34 @@ def test_a_new_behaviour_runs_end_to_end(stand, tmp_path):
     pb = playback_of(out)  # what a video shows
     assert pb.qpos.shape[1] == 201 and pb.captions is None
     np.testing.assert_array_equal(pb.qpos[0, 1:, 2].mean(), ev.fitness)
+
+
+@dataclass(frozen=True)
+class TipToeOptions(StandOptions):
+    # a switch of the behaviour's own, read from [options] (option() offers
+    # no bool on the command line; a config file may hold one)
+    on_toes: bool = False
+
+
+class StandTallOnToes(StandTall):
+    name = "stand-tall-on-toes"
+    Options = TipToeOptions
+
+
+def test_a_new_behaviours_switch_is_read_as_a_bool(monkeypatch):
+    # no shipped setting is a bool: a behaviour's own [options] can be, and a
+    # TOML true/false is then what it takes (not an integer, as for int fields)
+    monkeypatch.setattr(behaviours, "_REGISTRY", dict(behaviours._REGISTRY))
+    register_behaviour(StandTallOnToes)
+    d = {"behaviour": "stand-tall-on-toes", "options": {"on_toes": True}}
+    cfg = TrainConfig.from_dict(d, "c.toml")
+    assert cfg.options.on_toes is True
+    assert TrainConfig.from_dict(cfg.to_dict(), "again") == cfg
+    d["options"]["on_toes"] = 1
+    with pytest.raises(
+        UserError, match="^c.toml: options.on_toes must be bool, got int 1$"
+    ):
+        TrainConfig.from_dict(d, "c.toml")
 
 
 def test_a_new_behaviour_gets_an_environment(stand, tmp_path):
