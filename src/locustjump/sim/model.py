@@ -199,7 +199,6 @@ class ModelIndex:
     """Addresses of the named elements, read from a compiled model by name."""
 
     qpos_joints: np.ndarray = field(repr=False)  # (4,) qpos address of I1–I4
-    qvel_joints: np.ndarray = field(repr=False)
     touch: np.ndarray = field(repr=False)  # (2,) sensordata address per tarsus
     ranges: np.ndarray = field(repr=False)  # (4, 2) joint ranges, radians
     ready_key: int = -1
@@ -217,7 +216,6 @@ class ModelIndex:
         walls = [i for i, s in enumerate(sensors) if s.startswith(names.WALL_CONTACT)]
         return cls(
             qpos_joints=np.array([m.jnt_qposadr[j] for j in jids]),
-            qvel_joints=np.array([m.jnt_dofadr[j] for j in jids]),
             touch=np.array([m.sensor_adr[m.sensor(s).id] for s in names.TOUCH_SENSORS]),
             ranges=np.array([m.jnt_range[j] for j in jids]),
             ready_key=m.key(READY_KEY).id if m.nkey else -1,
