@@ -13,6 +13,7 @@ import pytest
 
 from helpers import TINY_GENERATIONS, assert_same_run, exit_status
 from locustjump import rundir
+from locustjump.errors import UserError
 from locustjump.runs.multiseed import parse_seeds, reproduce_seeds
 from locustjump.runs.reproduce import TRAINED, Budget
 
@@ -120,7 +121,10 @@ def test_a_rerun_continues_what_is_unfinished_and_keeps_the_rest(
     for s in SEEDS:
         assert_same_reproduction(rundir.seed_dir(out, s), singles[s])
     # a rerun may add a seed; the marker keeps every seed
-    with pytest.raises(Exception, match="budget"):
+    with pytest.raises(
+        UserError,
+        match="holds a reproduction over seeds with budget 'tiny', not 'quick'",
+    ):
         reproduce_seeds(out, [2], budget="quick", backend="ray", **QUIET)
     assert rundir.read_toml(out / rundir.SEEDS_MARKER)["seeds"] == [0, 1]
 
