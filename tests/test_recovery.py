@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from locustjump.cli import main
+from locustjump.errors import UserError
 from locustjump.evo.rcga import RCGAParams
 from locustjump.rundir.config import TrainConfig
 from locustjump.runs.trainer import train
@@ -80,8 +81,9 @@ def test_sweep_angles():
     assert not set(a) & set(TRAIN_ROLLS)
     assert len(sweep_angles(45.0)) == 4
     for bad in ({"step_deg": 0}, {"step_deg": -1}, {"to_deg": 400}, {"from_deg": -5}):
-        with pytest.raises(ValueError):
+        with pytest.raises(UserError, match=f"^{next(iter(bad))} must be") as e:
             sweep_angles(**bad)
+        assert e.value.setting == next(iter(bad))  # the CLI prints its option
 
 
 @pytest.fixture(scope="module")

@@ -300,12 +300,12 @@ def cmd_report(args: argparse.Namespace) -> int:
 def cmd_compare(args: argparse.Namespace) -> int:
 
     if args.figure is not None:
-        rundir.prepare_out_file(args.figure, force=args.force, option="--figure")
+        rundir.prepare_out_file(args.figure, force=args.force, setting="figure")
     groups = load_groups(args.dirs, by=args.by, total_budget=args.total_budget)
     text = table(groups, args.reference, margin=args.margin)
     if args.figure is not None:
         with rundir.output_file(
-            args.figure, force=args.force, option="--figure"
+            args.figure, force=args.force, setting="figure"
         ) as figure:
             xlabel = TOTAL_LABEL if args.total_budget else "genome evaluations"
             convergence_figure(groups, figure, title=args.title, xlabel=xlabel)
@@ -325,4 +325,4 @@ def frozen_options() -> tuple[str, ...]:
 
 
 def frozen_dest(option: str) -> str:
-    return "frozen_" + option.replace("-", "_")
+    return rundir.frozen_setting(option)

@@ -18,6 +18,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from locustjump import plugins, rundir
+from locustjump.cli.flags import speller
 from locustjump.cli.parser import build_parser
 from locustjump.errors import UserError
 from locustjump.version import __version__
@@ -98,7 +99,7 @@ def dispatch(argv: Sequence[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     debug = "--debug" in argv
     argv = [a for a in argv if a != "--debug"]
-    args = None
+    args = parser = None
     try:
         modules, argv = plugin_modules(argv)
         for module in modules:
@@ -122,7 +123,10 @@ def dispatch(argv: Sequence[str] | None = None) -> int:
     except Exception as e:
         if debug:
             traceback.print_exc()
-        if isinstance(e, UserError | ValueError | ImportError):
+        if isinstance(e, UserError):  # the settings it names as our options
+            spell = None if parser is None else speller(parser)
+            print(f"locustjump: error: {_flat(e.render(spell))}", file=sys.stderr)
+        elif isinstance(e, ValueError | ImportError):
             print(f"locustjump: error: {_flat(str(e))}", file=sys.stderr)
         elif isinstance(e, OSError):
             print(f"locustjump: error: {_flat(_os_error(e))}", file=sys.stderr)

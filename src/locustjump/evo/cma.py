@@ -25,6 +25,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
+from locustjump.errors import UserError, setting_ref
 from locustjump.evo.base import Optimizer
 
 #: pycma's stop keys that are ours to ignore: the trainer owns the budget
@@ -60,8 +61,9 @@ def _import_cma() -> Any:  # pycma: untyped
     try:
         import cma
     except ImportError:
-        raise ImportError(
-            "--optimizer cma needs the cma library: pip install 'locustjump[cma]'"
+        raise UserError(
+            f"{setting_ref('optimizer')} cma needs the cma library: "
+            "pip install 'locustjump[cma]'"
         ) from None
     return cma
 

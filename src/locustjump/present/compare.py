@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from locustjump import rundir
-from locustjump.errors import UserError
+from locustjump.errors import UserError, setting_ref
 from locustjump.present.plots import subplots
 from locustjump.present.stats import Sample, compare_samples, interval_text, p_text
 
@@ -89,8 +89,9 @@ def frozen_evaluations(run: Path, cfg) -> int:
         found = [d for d in places if rundir.is_run(d) and _hash(d) == digest]
         if not found:
             raise UserError(
-                f"{run}: --total-budget needs the {name} run it builds on (config "
-                f"hash {digest}), neither at {source} nor at {run.parent / name}"
+                f"{run}: {setting_ref('total_budget', True)} needs the {name} run "
+                f"it builds on (config hash {digest}), neither at {source} nor at "
+                f"{run.parent / name}"
             )
         metrics = rundir.read_metrics(found[0] / rundir.METRICS)
         total += int(metrics["evaluations"].sum())
@@ -115,7 +116,8 @@ def load_groups(
     keys = by.split(",")
     if not all(k in KEYS for k in keys) or len(set(keys)) != len(keys):
         raise UserError(
-            f"--by {by!r}: choose from {', '.join(KEYS)}, or several joined by commas"
+            f"{setting_ref('by')} {by!r}: choose from {', '.join(KEYS)}, or several "
+            "joined by commas"
         )
     if not dirs:
         raise UserError("compare needs at least one run directory")
@@ -182,9 +184,11 @@ def table(
         else groups[0]
     )
     if ref is None:
-        raise UserError(f"--reference {reference!r}: no such group")
+        raise UserError(f"{setting_ref('reference')} {reference!r}: no such group")
     if margin is not None and not (np.isfinite(margin) and margin > 0):
-        raise UserError(f"margin must be a finite number > 0, got {margin}")
+        raise UserError(
+            f"{setting_ref('margin')} must be a finite number > 0, got {margin}"
+        )
     head = [f"HL shift vs {ref.label} [95 % CI]", "Mann–Whitney p"]
     if margin is not None:
         head += [f"TOST p vs ±{margin:g}", "seeds for 80 % power"]

@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from locustjump import rundir
-from locustjump.errors import UserError
+from locustjump.errors import UserError, setting_ref
 from locustjump.present.stages import Episodes, reporter_of
 from locustjump.sim.engine.backends import ThreadBackend
 from locustjump.sim.scene import Scene, Terrains
@@ -191,8 +191,8 @@ def evaluate_terrains(
     base = beh.terrains.scene if scene is None else scene
     if not base.seeded:
         raise UserError(
-            f"--terrain-seeds: the {base.name} scene has one terrain "
-            "(e.g. --scene debris)"
+            f"{setting_ref('terrain_seeds')}: the {base.name} scene has one terrain "
+            f"(e.g. {setting_ref('scene')} debris)"
         )
     trained = set(beh.terrains.scenes)
     p = cfg.model

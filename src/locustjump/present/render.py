@@ -26,7 +26,7 @@ from PIL import Image, ImageDraw, ImageFont
 from tqdm import tqdm
 
 from locustjump import opengl, rundir
-from locustjump.errors import UserError
+from locustjump.errors import UserError, setting_ref
 from locustjump.rundir.config import from_table, terrains_from_table
 from locustjump.rundir.migrations import rules_summary
 from locustjump.sim import model as lm
@@ -288,7 +288,9 @@ def check_video_path(out: Path, *, force: bool = False) -> None:
             f"use {' or '.join(VIDEO_SUFFIXES)}"
         )
     if out.exists() and not force:
-        raise UserError(f"{out} exists; use --force to overwrite it")
+        raise UserError(
+            f"{out} exists; use {setting_ref('force', True)} to overwrite it"
+        )
     if not out.parent.is_dir():
         raise UserError(f"{out.parent}: no such directory")
 

@@ -77,6 +77,7 @@ from locustjump.rundir.run import (
     FrozenGenomes,
     behaviour_of,
     frozen_of,
+    frozen_setting,
     load_config,
     load_run,
     write_config,

@@ -2,7 +2,7 @@
 
 A command that writes a directory (``rules``, ``replay``) holds it through
 :func:`output_dir`, one that writes a file (``model``, ``render``,
-``compare --figure``) through :func:`output_file`: both check the location
+``compare``'s figure) through :func:`output_file`: both check the location
 first (creating nothing), then take the write lock (:mod:`.lock`) of the
 directory written into and check again under it (another process may have
 been first); a directory the command made is removed again if the command
@@ -17,64 +17,73 @@ import shutil
 from collections.abc import Iterator
 from pathlib import Path
 
-from locustjump.errors import UserError
+from locustjump.errors import UserError, setting_ref
 from locustjump.rundir.lock import locked
 
 
-def _exists(out: Path, option: str) -> bool:
+def _exists(out: Path, setting: str) -> bool:
     """Whether ``out`` exists; ``UserError`` for a path that cannot be
     looked at (a symbolic-link loop, a broken link, a file on the way)."""
     try:
         os.stat(out)
     except FileNotFoundError:
         if os.path.lexists(out):
-            raise UserError(f"{option} {out}: a broken symbolic link") from None
+            raise UserError(
+                f"{setting_ref(setting)} {out}: a broken symbolic link"
+            ) from None
         return False
     except OSError as e:
-        raise UserError(f"{option} {out}: {e.strerror or e}") from None
+        raise UserError(f"{setting_ref(setting)} {out}: {e.strerror or e}") from None
     return True
 
 
 def check_out_dir(
-    path: str | os.PathLike[str], *, force: bool = False, option: str = "--out"
+    path: str | os.PathLike[str], *, force: bool = False, setting: str = "out"
 ) -> Path:
     """Refuse (``UserError``) an existing non-empty ``path`` unless ``force``;
     create nothing."""
     out = Path(path)
-    if not _exists(out, option):
-        _exists(out.parent, option)  # a file or a loop on the way is named
+    if not _exists(out, setting):
+        _exists(out.parent, setting)  # a file or a loop on the way is named
         return out
     if not out.is_dir():
-        raise UserError(f"{option} {out}: exists and is not a directory")
+        raise UserError(f"{setting_ref(setting)} {out}: exists and is not a directory")
     try:
         full = any(out.iterdir())
     except OSError as e:
-        raise UserError(f"{option} {out}: {e.strerror or e}") from None
+        raise UserError(f"{setting_ref(setting)} {out}: {e.strerror or e}") from None
     if full and not force:
         raise UserError(
-            f"{option} {out}: directory exists and is not empty (use --force to "
-            "write into it)"
+            f"{setting_ref(setting)} {out}: directory exists and is not empty (use "
+            f"{setting_ref('force', True)} to write into it)"
         )
     return out
 
 
 def prepare_out_file(
-    path: str | os.PathLike[str], *, force: bool = False, option: str = "--out"
+    path: str | os.PathLike[str], *, force: bool = False, setting: str = "out"
 ) -> Path:
-    """Check that ``path`` (given as ``option``) can be written without
+    """Check that ``path`` (the setting ``setting``) can be written without
     overwriting, unless ``force``."""
     out = Path(path)
-    if _exists(out, option):
+    if _exists(out, setting):
         if out.is_dir():
-            raise UserError(f"{option} {out}: is a directory, expected a file")
+            raise UserError(
+                f"{setting_ref(setting)} {out}: is a directory, expected a file"
+            )
         if not force:
-            raise UserError(f"{option} {out}: file exists (use --force to overwrite)")
-    if not _exists(out.parent, option) or not out.parent.is_dir():
-        raise UserError(f"{option} {out}: directory {out.parent} does not exist")
+            raise UserError(
+                f"{setting_ref(setting)} {out}: file exists (use "
+                f"{setting_ref('force', True)} to overwrite)"
+            )
+    if not _exists(out.parent, setting) or not out.parent.is_dir():
+        raise UserError(
+            f"{setting_ref(setting)} {out}: directory {out.parent} does not exist"
+        )
     return out
 
 
-def make_dir(out: Path, option: str = "--out") -> Path | None:
+def make_dir(out: Path, setting: str = "out") -> Path | None:
     """Create directory ``out`` and its missing parents; the topmost one made
     (``None`` if it existed), for :func:`remove_made`."""
     top = None
@@ -84,7 +93,9 @@ def make_dir(out: Path, option: str = "--out") -> Path | None:
     try:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as e:
-        raise UserError(f"{option} {out}: cannot be created ({e.strerror})") from None
+        raise UserError(
+            f"{setting_ref(setting)} {out}: cannot be created ({e.strerror})"
+        ) from None
     return top
 
 
@@ -96,16 +107,16 @@ def remove_made(top: Path | None) -> None:
 
 @contextlib.contextmanager
 def output_dir(
-    path: str | os.PathLike[str], *, force: bool = False, option: str = "--out"
+    path: str | os.PathLike[str], *, force: bool = False, setting: str = "out"
 ) -> Iterator[Path]:
     """The directory ``path`` to write into, created and locked; refused if
     it is not empty (unless ``force``) before and again once locked; removed
     again if it was made here and the body fails."""
-    out = check_out_dir(path, force=force, option=option)
-    top = make_dir(out, option)
+    out = check_out_dir(path, force=force, setting=setting)
+    top = make_dir(out, setting)
     with locked(out):
         # another process may have been first (then what is there is its own)
-        check_out_dir(out, force=force, option=option)
+        check_out_dir(out, force=force, setting=setting)
         try:
             yield out
         except BaseException:
@@ -115,10 +126,10 @@ def output_dir(
 
 @contextlib.contextmanager
 def output_file(
-    path: str | os.PathLike[str], *, force: bool = False, option: str = "--out"
+    path: str | os.PathLike[str], *, force: bool = False, setting: str = "out"
 ) -> Iterator[Path]:
     """The file ``path`` to write, checked (:func:`prepare_out_file`) before
     and again under the lock of its directory, held while the body runs."""
-    out = prepare_out_file(path, force=force, option=option)
+    out = prepare_out_file(path, force=force, setting=setting)
     with locked(out.parent):
-        yield prepare_out_file(out, force=force, option=option)
+        yield prepare_out_file(out, force=force, setting=setting)

@@ -11,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from locustjump.errors import UserError
+from locustjump.errors import UserError, setting_ref
 from locustjump.rundir.arrays import genomes, scalar
 from locustjump.rundir.config import TrainConfig
 from locustjump.rundir.files import save_npz, write_toml
@@ -108,6 +108,12 @@ class BestGenome:
         return best
 
 
+def frozen_setting(behaviour: str) -> str:
+    """The setting naming the run of ``behaviour`` that another builds on
+    (``frozen_return_legs``: the command line's ``--return-legs DIR``)."""
+    return "frozen_" + behaviour.replace("-", "_")
+
+
 @dataclass(frozen=True)
 class FrozenGenomes:
     """The frozen networks a behaviour builds on (``DIR/frozen.npz``).
@@ -146,8 +152,10 @@ class FrozenGenomes:
             if dirs.get(name) is None:
                 raise UserError(
                     "this behaviour builds on "
-                    + ", ".join(f"--{r} DIR" for r in required)
-                    + f" (missing --{name})"
+                    + ", ".join(
+                        f"{setting_ref(frozen_setting(r))} DIR" for r in required
+                    )
+                    + f" (missing {setting_ref(frozen_setting(name))})"
                 )
             d = Path(dirs[name])
             cfg, _, best = load_run(d)
@@ -155,7 +163,8 @@ class FrozenGenomes:
             size = best.genome.size
             if not variant or size != (frozen_size or size):
                 raise UserError(
-                    f"--{name} {d}: holds a {cfg.behaviour!r} run, not {name!r}"
+                    f"{setting_ref(frozen_setting(name))} {d}: holds a "
+                    f"{cfg.behaviour!r} run, not {name!r}"
                     + (f" ({size} genes, not {frozen_size})" if variant else "")
                 )
             # the same creature; how it is computed may differ: the engine
@@ -172,7 +181,8 @@ class FrozenGenomes:
                     if ours[k] != v and k not in free
                 ]
                 raise UserError(
-                    f"--{name} {d}: its model parameters differ from this run's "
+                    f"{setting_ref(frozen_setting(name))} {d}: its model parameters "
+                    "differ from this run's "
                     f"({', '.join(diff)})"
                 )
             genomes.append(best.genome)

@@ -35,7 +35,7 @@ from typing import TYPE_CHECKING, Any
 from tqdm.auto import tqdm
 
 from locustjump import rundir
-from locustjump.errors import UserError
+from locustjump.errors import UserError, setting_ref
 from locustjump.present.report import write_report
 from locustjump.present.results import minutes, seeds_markdown
 from locustjump.runs.reproduce import finish_reproduction, reproduce
@@ -154,8 +154,8 @@ def _task_threads(ray: Any, threads: int | None) -> int:
         return min(cpus)
     if threads > max(cpus):
         raise UserError(
-            f"--threads {threads}: the largest node of the Ray cluster has "
-            f"{max(cpus)} CPUs"
+            f"{setting_ref('threads')} {threads}: the largest node of the Ray "
+            f"cluster has {max(cpus)} CPUs"
         )
     return threads
 
@@ -168,8 +168,8 @@ def _stage_task(
     d = rep.seed_dir(seed)
     if not rundir.is_reproduction(d):
         raise UserError(
-            f"{d}: not visible on this node (on a cluster, --out must be on a "
-            "file system every node sees)"
+            f"{d}: not visible on this node (on a cluster, {setting_ref('out')} "
+            "must be on a file system every node sees)"
         )
     t0 = time.perf_counter()
     with ThreadBackend(threads) as backend:
@@ -214,7 +214,8 @@ def _run_on_ray(ray, rep: Reproduction, threads, monolithic, here, progress, log
                 fitness, wall = ray.get(ready[0])
             except ray.exceptions.RayTaskError as e:
                 cause = getattr(e, "cause", None) or e
-                raise UserError(f"[seed {s}] {stage}: {cause}") from None
+                why = cause.message if isinstance(cause, UserError) else cause
+                raise UserError(f"[seed {s}] {stage}: {why}") from None
             bar.update()
             shown = "" if fitness is None else f"best fitness {fitness:.6g}, "
             with tqdm.external_write_mode():  # the line above the bar

@@ -23,7 +23,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from locustjump import rundir
-from locustjump.errors import UserError
+from locustjump.errors import UserError, setting_ref
 from locustjump.evo import params_class
 from locustjump.present.evaluate import HELD_OUT_SEEDS, evaluate_run, evaluate_terrains
 from locustjump.present.rules import write_rules_run
@@ -46,6 +46,8 @@ PAPER_STAGES = ("kick", "getup", "return-legs", "composed")
 BASELINES = ("monolithic",)
 TRAINED = PAPER_STAGES + BASELINES
 STAGES = (rundir.RULES_DIR, *TRAINED)
+#: the setting its errors name most (the command line prints its option)
+OUT = setting_ref("out")
 
 
 @dataclass(frozen=True)
@@ -142,7 +144,9 @@ class Reproduction:
         params_class(optimizer)  # a clear error for an unknown kind
         seeds = tuple(int(s) for s in seeds)
         if not seeds or len(set(seeds)) != len(seeds) or min(seeds) < 0:
-            raise UserError(f"--seeds: need distinct non-negative seeds, got {seeds}")
+            raise UserError(
+                f"{setting_ref('seeds')}: need distinct non-negative seeds, got {seeds}"
+            )
         if not many and len(seeds) != 1:
             raise UserError("a single-seed reproduction has one seed")
         if engine is not None and engine not in ENGINES:
@@ -215,24 +219,25 @@ class Reproduction:
             else (rundir.MARKER, "a reproduction")
         )
         if out.exists() and not out.is_dir():
-            raise UserError(f"--out {out}: exists and is not a directory")
+            raise UserError(f"{OUT} {out}: exists and is not a directory")
         if (out / name).is_file():
             have = _read_marker(out / name)
             for k, v in want.items():
                 if have.get(k, v) != v:  # a key older markers lack: not checked
                     raise UserError(
-                        f"--out {out}: holds {kind} with {k} {have.get(k)!r}, not "
-                        f"{v!r} (choose another --out)"
+                        f"{OUT} {out}: holds {kind} with {k} {have.get(k)!r}, not "
+                        f"{v!r} (choose another {OUT})"
                     )
         elif self.many and rundir.is_reproduction(out):
             raise UserError(
-                f"--out {out}: holds a single-seed reproduction; give --seeds "
-                "another --out (or continue this one with --seed)"
+                f"{OUT} {out}: holds a single-seed reproduction; give "
+                f"{setting_ref('seeds')} another {OUT} (or continue this one with "
+                f"{setting_ref('seed')})"
             )
         elif out.is_dir() and any(out.iterdir()):
             raise UserError(
-                f"--out {out}: directory is not empty and holds no reproduction "
-                f"(no {name}); choose another --out"
+                f"{OUT} {out}: directory is not empty and holds no reproduction "
+                f"(no {name}); choose another {OUT}"
             )
         if self.many:
             for s in self.seeds:

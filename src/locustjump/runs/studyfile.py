@@ -51,7 +51,7 @@ from pathlib import Path
 from typing import Any
 
 from locustjump import rundir
-from locustjump.errors import UserError
+from locustjump.errors import UserError, setting_ref
 from locustjump.runs.multiseed import parse_seeds
 from locustjump.runs.studyarms import Arm, parse_arms
 
@@ -127,10 +127,12 @@ def load_study(path: str | os.PathLike, seeds: str | None = None) -> Study:
     out = Path(_text(d.get("out", str(root)), "out", src))
     all_seeds = _seeds(d.get("seeds"), "seeds", src)
     if seeds is not None:
-        chosen = _seeds(seeds, "--seeds", "--seeds")
+        chosen = _seeds(seeds, setting_ref("seeds"), setting_ref("seeds"))
         extra = sorted(set(chosen) - set(all_seeds))
         if extra:
-            raise UserError(f"--seeds: seed {extra[0]} is not one of the study's")
+            raise UserError(
+                f"{setting_ref('seeds')}: seed {extra[0]} is not one of the study's"
+            )
         all_seeds = tuple(chosen)
     currency = d.get("currency", "evaluations")
     if currency not in CURRENCIES:

@@ -25,7 +25,7 @@ import numpy as np
 from tqdm.auto import tqdm
 
 from locustjump import rundir
-from locustjump.errors import UserError
+from locustjump.errors import UserError, setting_ref
 from locustjump.evo import Optimizer, make_optimizer
 from locustjump.present.plots import fitness_curves
 from locustjump.rundir import BestGenome, FrozenGenomes
@@ -38,6 +38,9 @@ from locustjump.tasks import Behaviour, behaviour_class, get_behaviour
 
 if TYPE_CHECKING:
     from locustjump.sim.engine.backends import Backend
+
+#: the settings the errors here name (the command line prints its options)
+OUT, RESUME = setting_ref("out"), setting_ref("resume", True)
 
 
 @dataclass
@@ -223,7 +226,7 @@ def train(
         backend = ThreadBackend()
     if resume:
         if not rundir.is_run(out):
-            raise UserError(f"--resume: {out} holds no run (no {rundir.CONFIG})")
+            raise UserError(f"{RESUME}: {out} holds no run (no {rundir.CONFIG})")
         with rundir.locked(out):
             run = _resume(out, cfg, backend, bool(cls.requires))
             return run.run(progress=progress, stop_after=stop_after)
@@ -253,13 +256,15 @@ def _check_new(
     if out.is_dir() and any(out.iterdir()) and not rundir.is_unstarted(out):
         what = "holds a run" if rundir.is_run(out) else "is not empty"
         raise UserError(
-            f"--out {out}: directory {what} (use --resume to continue a run, or "
-            "choose another --out)"
+            f"{OUT} {out}: directory {what} (use {RESUME} to continue a run, or "
+            f"choose another {OUT})"
         )
     if cls.requires and frozen is None:
         raise UserError(
             f"train {cfg.behaviour} needs the runs it builds on ("
-            + " ".join(f"--{r} DIR" for r in cls.requires)
+            + " ".join(
+                f"{setting_ref(rundir.frozen_setting(r))} DIR" for r in cls.requires
+            )
             + ")"
         )
     lm.check_model(cfg.model)
@@ -309,11 +314,11 @@ def _resume(out: Path, cfg: TrainConfig, backend: Backend, builds_on: bool) -> T
         cfg = cfg.replace(frozen_digest=stored.frozen_digest)
     if stored.behaviour != cfg.behaviour:
         raise UserError(
-            f"--resume: {out} holds a {stored.behaviour!r} run, not {cfg.behaviour!r}"
+            f"{RESUME}: {out} holds a {stored.behaviour!r} run, not {cfg.behaviour!r}"
         )
     if stored.optimizer.kind != cfg.optimizer.kind:
         raise UserError(
-            f"--resume: {out} was trained with the {stored.optimizer.kind!r} "
+            f"{RESUME}: {out} was trained with the {stored.optimizer.kind!r} "
             f"optimizer, not {cfg.optimizer.kind!r}"
         )
     diff = _differences(cfg.to_dict(), stored.to_dict())
@@ -321,7 +326,7 @@ def _resume(out: Path, cfg: TrainConfig, backend: Backend, builds_on: bool) -> T
         key, mine, theirs = diff[0]
         more = f" (and {len(diff) - 1} more)" if len(diff) > 1 else ""
         raise UserError(
-            f"--resume: {key} {_shown(mine)} differs from the run's {key} "
+            f"{RESUME}: {key} {_shown(mine)} differs from the run's {key} "
             f"{_shown(theirs)} ({out / rundir.CONFIG}){more}"
         )
     beh = rundir.behaviour_of(cfg, out)
@@ -330,7 +335,8 @@ def _resume(out: Path, cfg: TrainConfig, backend: Backend, builds_on: bool) -> T
         run.restore()
     if cfg.generations < run.opt.generation:
         raise UserError(
-            f"--generations {cfg.generations}: the run in {out} has already done "
+            f"{setting_ref('generations')} {cfg.generations}: the run in {out} has "
+            "already done "
             f"{run.opt.generation} (a run can be extended, not shortened)"
         )
     _keep_metrics_columns(run)

@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from tqdm.auto import tqdm
 
+from locustjump.errors import UserError, setting_ref
 from locustjump.sim import model as lm
 from locustjump.sim.engine.job import (
     DEFAULT_ENGINE,
@@ -146,19 +147,20 @@ def sweep_angles(
     """The generalisation test's roll angles: the centres of ``step_deg`` bins
     from ``from_deg`` to ``to_deg`` (1 deg: 90.5, 91.5, ..., 269.5, i.e. 180
     states from one side to the other, none equal to a training state)."""
+    step, start, stop = (setting_ref(n) for n in ("step_deg", "from_deg", "to_deg"))
     if not step_deg > 0:
-        raise ValueError(f"--step-deg must be > 0, got {step_deg:g}")
-    for name, a in (("--from-deg", from_deg), ("--to-deg", to_deg)):
+        raise UserError(f"{step} must be > 0, got {step_deg:g}")
+    for name, a in ((start, from_deg), (stop, to_deg)):
         if not 0.0 <= a <= 360.0:
-            raise ValueError(f"{name} must be in [0, 360] degrees, got {a:g}")
+            raise UserError(f"{name} must be in [0, 360] degrees, got {a:g}")
     if not from_deg < to_deg:
-        raise ValueError(f"--from-deg {from_deg:g} must be below --to-deg {to_deg:g}")
+        raise UserError(f"{start} {from_deg:g} must be below {stop} {to_deg:g}")
     n = int(np.floor((to_deg - from_deg) / step_deg + 1e-9))
     if n < 1:
-        raise ValueError(f"--step-deg {step_deg:g} leaves no angle in the range")
+        raise UserError(f"{step} {step_deg:g} leaves no angle in the range")
     require_memory(
         rollout_bytes(lm.load_model(), n + len(TRAIN_ROLLS), GetUp.n_steps, ("obs",)),
-        f"--step-deg {step_deg:g}: a sweep of {n:,} start states",
+        f"{step} {step_deg:g}: a sweep of {n:,} start states",
     )
     return from_deg + step_deg * (np.arange(n) + 0.5)
 

@@ -18,6 +18,7 @@ once with :func:`make_backend`, then pass it down explicitly.
 
 from __future__ import annotations
 
+from locustjump.errors import UserError, setting_ref
 from locustjump.sim.engine.ray_backend import RayBackend
 from locustjump.sim.engine.threads import Backend, ThreadBackend, default_threads
 
@@ -43,7 +44,10 @@ def make_backend(
     """
     if name == "threads":
         if address is not None or actors is not None:
-            raise ValueError("--address and --actors are for --backend ray")
+            raise UserError(
+                f"{setting_ref('address')} and {setting_ref('actors')} are for "
+                f"{setting_ref('backend')} ray"
+            )
         return ThreadBackend(threads)
     if name == "ray":
         return RayBackend(address, actors=actors, threads=threads)

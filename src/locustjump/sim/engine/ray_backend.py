@@ -21,7 +21,7 @@ import socket
 from types import ModuleType
 from typing import Any
 
-from locustjump.errors import UserError
+from locustjump.errors import UserError, setting_ref
 from locustjump.sim.engine.job import RolloutJob, RolloutResult
 from locustjump.sim.engine.threads import ThreadBackend
 
@@ -34,7 +34,7 @@ def _ray() -> ModuleType:
         import ray
     except ImportError:
         raise UserError(
-            "--backend ray needs Ray: pip install 'locustjump[ray]'"
+            f"{setting_ref('backend')} ray needs Ray: pip install 'locustjump[ray]'"
         ) from None
     return ray
 
@@ -49,7 +49,8 @@ def _check_address(address: str) -> None:
             pass
     except (OSError, ValueError) as e:
         raise UserError(
-            f"--address {address}: no Ray cluster answers there ({e}); start one "
+            f"{setting_ref('address')} {address}: no Ray cluster answers there ({e}); "
+            "start one "
             "with `ray start --head` or check HOST:PORT"
         ) from None
 
@@ -85,7 +86,9 @@ def connect(address: str | None = None) -> ModuleType:
         )
     except (ConnectionError, RuntimeError, ValueError) as e:
         msg = str(e).strip().splitlines()[0] if str(e).strip() else repr(e)
-        raise UserError(f"--address {address}: cannot join Ray ({msg})") from None
+        raise UserError(
+            f"{setting_ref('address')} {address}: cannot join Ray ({msg})"
+        ) from None
     return ray
 
 
@@ -117,7 +120,7 @@ class RayBackend:
         if cpus < self.threads:
             raise UserError(
                 f"the Ray cluster has {cpus} CPUs; an actor asks for {self.threads} "
-                "(--threads per actor)"
+                f"({setting_ref('threads')} per actor)"
             )
         self.n_actors = actors if actors is not None else max(1, cpus // self.threads)
         # more actors than the cluster has CPUs for share them (Ray allows a
