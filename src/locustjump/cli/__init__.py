@@ -14,6 +14,8 @@ import signal
 import sys
 from collections.abc import Sequence
 
+from locustjump.cli import console
+
 
 def _interrupt(signum, frame) -> None:
     raise KeyboardInterrupt
@@ -32,6 +34,8 @@ def _unraisable(info) -> None:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    # before the library loads: what it logs while loading is shown too
+    console.configure(debug="--debug" in (sys.argv[1:] if argv is None else argv))
     previous = signal.signal(signal.SIGTERM, _interrupt)  # stop as on Ctrl-C
     hook, sys.unraisablehook = sys.unraisablehook, _unraisable
     try:

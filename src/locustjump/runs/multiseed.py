@@ -25,6 +25,7 @@ system every node sees (the tasks write their stages there).
 from __future__ import annotations
 
 import contextlib
+import logging
 import os
 import re
 import time
@@ -50,6 +51,9 @@ if TYPE_CHECKING:
 _SEEDS = re.compile(r"^\d+(-\d+)?$")
 #: the most seeds one command takes (a typo like 0-99999 is caught)
 MAX_SEEDS = 1000
+
+#: progress and diagnostics (the command line shows them; see logging)
+_log = logging.getLogger(__name__)
 
 
 def parse_seeds(text: str) -> list[int]:
@@ -88,7 +92,7 @@ def reproduce_seeds(
     threads: int | None = None,
     address: str | None = None,
     progress: bool = True,
-    log: Callable[[str], None] = print,
+    log: Callable[[str], None] | None = None,
     command: str = "",
     videos: bool = True,
     monolithic: bool = True,
@@ -102,7 +106,9 @@ def reproduce_seeds(
     or ``"ray"`` (every stage a task on the cluster at ``address``, default a
     local instance, ``threads`` CPUs each). ``engine``: as for
     :func:`~locustjump.runs.reproduce.reproduce`, and ``terrains``. A rerun
-    may add seeds."""
+    may add seeds. ``log`` takes each line of progress (default: this
+    module's logger, at INFO)."""
+    log = log or _log.info
     if backend not in ("threads", "ray"):
         raise UserError(f"unknown backend {backend!r}; choose from threads, ray")
     rep = Reproduction.open(

@@ -17,6 +17,7 @@ kept, an interrupted training resumes from its checkpoint (bit-identical).
 
 from __future__ import annotations
 
+import logging
 import os
 from collections.abc import Callable
 from pathlib import Path
@@ -66,6 +67,9 @@ __all__ = [
     "stages_of",
 ]
 
+#: progress and diagnostics (the command line shows them; see logging)
+_log = logging.getLogger(__name__)
+
 
 def reproduce(
     out: str | os.PathLike,
@@ -76,7 +80,7 @@ def reproduce(
     engine: str | None = None,
     backend: Backend | None = None,
     progress: bool = True,
-    log: Callable[[str], None] = print,
+    log: Callable[[str], None] | None = None,
     command: str = "",
     videos: bool = True,
     monolithic: bool = True,
@@ -95,7 +99,9 @@ def reproduce(
     started with, else the default) computes every stage's controllers;
     ``terrains`` (default: the ones ``out`` was started with, else the flat
     floor) is where every stage trains. Several seeds at once, on a cluster
-    too: :func:`locustjump.runs.multiseed.reproduce_seeds`."""
+    too: :func:`locustjump.runs.multiseed.reproduce_seeds`. ``log`` takes each
+    line of progress (default: this module's logger, at INFO)."""
+    log = log or _log.info
     rep = Reproduction.open(
         out, budget, (seed,), optimizer=optimizer, engine=engine, terrains=terrains
     )
@@ -124,12 +130,14 @@ def finish_reproduction(
     out: Path,
     *,
     backend: Backend | None = None,
-    log: Callable[[str], None] = print,
+    log: Callable[[str], None] | None = None,
     videos: bool = True,
     progress: bool = False,
 ) -> Path:
     """Videos (``videos``; ``progress``: a bar for each), ``results.md`` and
-    ``report.html`` of ``out``."""
+    ``report.html`` of ``out``; ``log`` takes each line of progress (default:
+    this module's logger, at INFO)."""
+    log = log or _log.info
     path = out / rundir.RESULTS
     if videos:
         render_videos(out, backend=backend, log=log, progress=progress)
@@ -145,13 +153,16 @@ def render_videos(
     *,
     fps: float = VIDEO_FPS,
     backend: Backend | None = None,
-    log: Callable[[str], None] = print,
+    log: Callable[[str], None] | None = None,
     progress: bool = False,
 ) -> list[Path]:
     """``<stage>/video.mp4`` for every stage of reproduction ``out`` that has
     none yet, each announced (``video k of n``) before it is made, with a bar
     over its frames (``progress``; its estimate of the time left); skipped,
-    with the reason logged, where rendering is unavailable."""
+    with the reason logged (default: a warning of this module's logger), where
+    rendering is unavailable."""
+    warn = log or _log.warning
+    log = log or _log.info
     todo = [
         s for s in STAGES
         if (Path(out) / s).is_dir() and not (Path(out) / s / rundir.VIDEO).is_file()
@@ -161,7 +172,7 @@ def render_videos(
         if todo:
             check_rendering()  # before the first re-simulation
     except RenderUnavailable as e:
-        log(f"videos skipped: {e}")
+        warn(f"videos skipped: {e}")
         return made
     for k, stage in enumerate(todo, 1):
         d = Path(out) / stage
@@ -171,7 +182,7 @@ def render_videos(
             video = render_run(d, d / rundir.VIDEO, fps=fps, backend=backend,
                                progress=progress, label=f"{what}, {stage}")  # fmt: skip
         except RenderUnavailable as e:
-            log(f"videos skipped: {e}")
+            warn(f"videos skipped: {e}")
             break
         made.append(video)
         log(f"[{stage}] wrote {video}")

@@ -15,6 +15,7 @@ a Ray task receives it whole.
 from __future__ import annotations
 
 import dataclasses
+import logging
 import os
 import time
 from collections.abc import Callable, Sequence
@@ -48,6 +49,9 @@ TRAINED = PAPER_STAGES + BASELINES
 STAGES = (rundir.RULES_DIR, *TRAINED)
 #: the setting its errors name most (the command line prints its option)
 OUT = setting_ref("out")
+
+#: progress and diagnostics (the command line shows them; see logging)
+_log = logging.getLogger(__name__)
 
 
 @dataclass(frozen=True)
@@ -297,14 +301,16 @@ class Reproduction:
         seed: int | None = None,
         *,
         progress: bool = False,
-        log: Callable[[str], None] = print,
+        log: Callable[[str], None] | None = None,
         of: tuple[int, int] | None = None,
     ) -> float | None:
         """Run (or continue) ``stage`` of ``seed``'s reproduction, whose marker
         exists and whose required stages are done; the best fitness (``None``
         for the rule-based stage). Each phase (training, evaluating) is
         announced through ``log`` before it begins, as stage ``k`` of ``n``
-        where ``of`` is ``(k, n)``."""
+        where ``of`` is ``(k, n)``; ``log`` takes each line of progress
+        (default: this module's logger, at INFO)."""
+        log = log or _log.info
         seed = self.seeds[0] if seed is None else seed
         d = self.seed_dir(seed) / stage
         tag = f"[{stage}]" if of is None else f"[{stage}] stage {of[0]} of {of[1]}:"

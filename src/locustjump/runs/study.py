@@ -14,7 +14,7 @@ take at this machine's measured throughput (``--dry-run``).
 
 from __future__ import annotations
 
-import sys
+import logging
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -38,6 +38,9 @@ if TYPE_CHECKING:
 
 #: control steps of the throughput probe per episode (``--dry-run``)
 PROBE_STEPS = 240
+
+#: progress and diagnostics (the command line shows them; see logging)
+_log = logging.getLogger(__name__)
 
 
 @dataclass(frozen=True)
@@ -183,8 +186,9 @@ def run_study(
     """Train every run of ``study`` that is not finished (see the module's
     docstring); every existing run is checked first (:func:`check_run`), so
     a wrong study file stops before anything is trained. Returns the final
-    states."""
-    log = log or (lambda s: print(s, file=sys.stderr))
+    states. ``log`` takes each line of progress (default: this module's
+    logger, at INFO)."""
+    log = log or _log.info
     todo = states(study)
     for st in todo:
         check_run(study, study.arms[st.arm], st.seed)

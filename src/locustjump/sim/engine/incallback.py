@@ -36,8 +36,8 @@ and the step-by-step loop runs instead.
 from __future__ import annotations
 
 import hashlib
+import logging
 import threading
-import warnings
 from collections.abc import Callable
 from dataclasses import replace
 from typing import Any, cast
@@ -96,7 +96,9 @@ if not AVAILABLE:
         "(KERNELS_SHA256)"
     )
     why += "; the step-by-step compiled loop runs instead (same results, slower)"
-    warnings.warn(f"locustjump: {why}", RuntimeWarning, stacklevel=2)
+    # nothing a caller can change: a diagnostic (logging), not a warning to
+    # act on (warnings.warn)
+    logging.getLogger(__name__).warning(why)
 _NWARNING = int(mujoco.mjtWarning.mjNWARNING)
 
 
