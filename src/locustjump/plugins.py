@@ -36,7 +36,7 @@ import threading
 from collections.abc import Callable, Iterable, Mapping
 from typing import Any
 
-from locustjump.errors import UserError
+from locustjump.errors import UserError, setting_ref
 
 #: the entry point groups, by what they hold
 OPTIMIZERS = "locustjump.optimizers"
@@ -71,7 +71,7 @@ def load(group: str, register: Callable[[Any], Any]) -> None:
             except Exception as e:  # anything a foreign import may raise
                 of = f" of distribution {dist}" if dist else ""
                 log.warning(
-                    "locustjump: warning: plugin %r%s (%s in %s) failed to load "
+                    "plugin %r%s (%s in %s) failed to load "
                     "and is skipped: %s: %s",
                     ep.name, of, ep.value, group, type(e).__name__, _one_line(e),
                 )  # fmt: skip
@@ -81,12 +81,15 @@ def load_module(name: str) -> None:
     """Import module ``name`` (``--plugin``), whose import registers what it
     defines; a ``UserError`` naming it if it cannot be imported."""
     if not _MODULE.fullmatch(name):
-        raise UserError(f"--plugin: {name!r} is not a module name (e.g. mypkg.mod)")
+        raise UserError(
+            f"{setting_ref('plugin')}: {name!r} is not a module name (e.g. mypkg.mod)"
+        )
     try:
         importlib.import_module(name)
     except Exception as e:  # anything a foreign import may raise
         raise UserError(
-            f"--plugin {name}: cannot import it ({type(e).__name__}: {_one_line(e)})"
+            f"{setting_ref('plugin')} {name}: cannot import it "
+            f"({type(e).__name__}: {_one_line(e)})"
         ) from None
 
 
@@ -118,7 +121,7 @@ def check_loaded(plugins: Mapping[str, str], source: str) -> None:
         of = f" (distribution {dist})" if dist else ""
         raise UserError(
             f"{source}: made with the plugin {module}{of}, which is not "
-            f"loaded here: {install}, or give --plugin {module}"
+            f"loaded here: {install}, or give {setting_ref('plugin')} {module}"
         )
 
 

@@ -10,6 +10,7 @@
 
 from __future__ import annotations
 
+import argparse
 import os
 import sys
 import tempfile
@@ -124,8 +125,8 @@ def dispatch(argv: Sequence[str] | None = None) -> int:
         if debug:
             traceback.print_exc()
         if isinstance(e, UserError):  # the settings it names as our options
-            spell = None if parser is None else speller(parser)
-            print(f"locustjump: error: {_flat(e.render(spell))}", file=sys.stderr)
+            print(f"locustjump: error: {_flat(e.render(_spell(parser)))}",
+                  file=sys.stderr)  # fmt: skip
         elif isinstance(e, ValueError | ImportError):
             print(f"locustjump: error: {_flat(str(e))}", file=sys.stderr)
         elif isinstance(e, OSError):
@@ -146,6 +147,15 @@ def dispatch(argv: Sequence[str] | None = None) -> int:
             )
             return 1
         return 2
+
+
+def _spell(parser: argparse.ArgumentParser | None):
+    """How the error names a setting: our option for it (the parser is built
+    here if the error came before it was)."""
+    try:
+        return speller(parser if parser is not None else build_parser())
+    except Exception:  # a registry a plugin broke: the settings' own names
+        return None
 
 
 def _flat(text: str) -> str:

@@ -37,5 +37,5 @@ class StandTall(Behaviour):
     def episode_fitness(self, res, p):
         return res["qpos"][:, 1 + self.options.settle_steps :, 2].mean(axis=1)
 
-    def metrics(self, res, p, genome, *, backend=None):
+    def metrics(self, res, p, genome, reference=None):
         return {"fitness": float(self.fitness(res, p)[0])}
