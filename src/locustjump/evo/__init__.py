@@ -8,6 +8,16 @@ kind       what                                        module
 ``random`` random search, the floor to beat            :mod:`.random_search`
 =========  ==========================================  ===================
 
+Quality diversity (extra ``[qd]``, pyribs; the task's behaviour descriptors
+come with each tell, the elites fill a grid archive, :mod:`.qd`):
+
+==============  =====================================  ====================
+kind            what                                   module
+==============  =====================================  ====================
+``map-elites``  MAP-Elites, Gaussian or iso-line        :mod:`.map_elites`
+``cma-me``      CMA-ME, CMA-ES emitters                 :mod:`.cma_me`
+==============  =====================================  ====================
+
 A new optimizer subclasses :class:`Optimizer` (it writes ``_ask``, ``_tell``,
 ``_state``, ``_set_state``; the base does the bookkeeping) and has a frozen
 settings dataclass; :func:`register` makes it available to ``TrainConfig``,
@@ -21,6 +31,7 @@ from __future__ import annotations
 from typing import Any
 
 from locustjump import plugins
+from locustjump.evo.archive import Archive
 from locustjump.evo.base import (
     Optimizer,
     OptimizerParams,
@@ -28,6 +39,9 @@ from locustjump.evo.base import (
     rng_state,
 )
 from locustjump.evo.cma import CMAES, CMAParams
+from locustjump.evo.cma_me import CMAME, CMAMEParams
+from locustjump.evo.map_elites import MapElites, MapElitesParams
+from locustjump.evo.qd import QDOptimizer, QDParams
 from locustjump.evo.random_search import RandomSearch, RandomSearchParams
 from locustjump.evo.rcga import RCGA, RCGAParams
 
@@ -50,7 +64,7 @@ def register(cls: type[Optimizer]) -> type[Optimizer]:
     return cls
 
 
-for _cls in (RCGA, CMAES, RandomSearch):
+for _cls in (RCGA, CMAES, RandomSearch, MapElites, CMAME):
     register(_cls)
 
 
@@ -83,8 +97,15 @@ def make_optimizer(params: Any, num_params: int, seed: int) -> Optimizer:
 
 __all__ = [
     "CMAES",
+    "CMAME",
     "RCGA",
+    "Archive",
+    "CMAMEParams",
     "CMAParams",
+    "MapElites",
+    "MapElitesParams",
+    "QDOptimizer",
+    "QDParams",
     "Optimizer",
     "OptimizerParams",
     "RCGAParams",

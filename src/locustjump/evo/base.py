@@ -18,6 +18,12 @@ what differs:
 ``diagnostics()``   optional: extra ``metrics.csv`` columns, ``{name: value}``
 ==================  ====================================================
 
+An optimizer that needs the genomes' behaviour descriptors too (quality
+diversity, :mod:`.qd`) names them in ``descriptor_names`` and writes
+``_tell_described(x, f, d)`` in place of ``_tell``; :meth:`Optimizer.tell`
+then takes ``descriptors=`` ``(n, len(descriptor_names))``. The others are
+told fitness alone, as before.
+
 A ``_set_state`` whose state holds the best genome so far restores it with
 ``_set_best``; the base keeps it up to date on every :meth:`Optimizer.tell`.
 
@@ -65,6 +71,17 @@ def check_fitness(fitness: np.ndarray, n: int) -> np.ndarray:
     if np.isnan(f).any():
         raise ValueError("fitness contains NaN")
     return f
+
+
+def check_descriptors(descriptors: np.ndarray, n: int, d: int) -> np.ndarray:
+    """``descriptors`` as a finite float64 ``(n, d)`` array; ``ValueError`` if
+    it is not one."""
+    m = np.asarray(descriptors, dtype=np.float64)
+    if m.shape != (n, d):
+        raise ValueError(f"got descriptors of shape {m.shape}, expected {(n, d)}")
+    if not np.isfinite(m).all():
+        raise ValueError("descriptors are not finite")
+    return m
 
 
 def rng_state(rng: np.random.Generator) -> np.ndarray:
@@ -160,6 +177,20 @@ class Optimizer(ABC):
         """Inverse of :meth:`_state` (``ValueError`` on inconsistent data);
         ``self.generation`` is already ``state["generation"]``."""
 
+    @property
+    def descriptor_names(self) -> tuple[str, ...]:
+        """The behaviour descriptors each :meth:`tell` needs, by name (the
+        task computes them); empty, the default: none."""
+        return ()
+
+    def _tell_described(
+        self, genomes: np.ndarray, fitness: np.ndarray, descriptors: np.ndarray
+    ) -> np.ndarray | None:
+        """:meth:`_tell` with the genomes' ``descriptors`` (checked: float64
+        ``(n, len(descriptor_names))``, finite), for an optimizer that names
+        some in :attr:`descriptor_names`."""
+        raise NotImplementedError(f"{type(self).__name__} takes no descriptors")
+
     def _stop(self) -> Mapping[str, Any]:
         """Why the optimizer would stop before the budget: reason -> value
         (default: never)."""
@@ -186,8 +217,10 @@ class Optimizer(ABC):
             self._asked = x
         return self._asked.copy()
 
-    def tell(self, fitness: np.ndarray) -> None:
-        """Fitness ``(n,)`` of the genomes of the last :meth:`ask`, same order."""
+    def tell(self, fitness: np.ndarray, descriptors: np.ndarray | None = None) -> None:
+        """Fitness ``(n,)`` of the genomes of the last :meth:`ask`, same order;
+        ``descriptors`` ``(n, d)`` their behaviour descriptors, for an
+        optimizer that names ``d`` in :attr:`descriptor_names` (and only then)."""
         if self._asked is None:
             raise RuntimeError(
                 f"tell() without a pending ask() (generation {self.generation} "
@@ -195,7 +228,19 @@ class Optimizer(ABC):
             )
         x = self._asked
         f = check_fitness(fitness, x.shape[0])
-        population = self._tell(x, f)
+        names = self.descriptor_names
+        if names:
+            if descriptors is None:
+                raise ValueError(
+                    f"{type(self).__name__} needs the descriptors "
+                    f"{', '.join(names)} with the fitness"
+                )
+            m = check_descriptors(descriptors, x.shape[0], len(names))
+            population = self._tell_described(x, f, m)
+        elif descriptors is not None:
+            raise ValueError(f"{type(self).__name__} takes no descriptors")
+        else:
+            population = self._tell(x, f)
         i = int(np.argmax(f))
         if self.generation == 0 or f[i] > self._best_fitness:
             self._set_best(x[i], f[i])
