@@ -221,3 +221,54 @@ def sweep_figure(path: Path, sweep, *, title: str = "") -> None:
     ax.legend(loc="lower center", bbox_to_anchor=(0.5, -0.02), fontsize=8, ncol=3)
     ax.set_title(title or f"Got up from {sweep.got_up} of {sweep.n_sweep}")
     _save(fig, path)
+
+
+def archive_heatmap(
+    path: Path, archive, *, units: dict[str, str] | None = None, title: str = ""
+) -> None:
+    """A grid archive's elites (:class:`~locustjump.evo.archive.Archive`) as a
+    heatmap: fitness colour per cell of the first two descriptors (x, y),
+    empty cells blank; with one descriptor, one row; with more, each cell of
+    the first two shows the best over the others. Top and right axes: the
+    cell indices (``--cell i,j``)."""
+    heat = archive.heat()
+    if heat.ndim == 1:
+        heat = heat[:, None]
+    elif heat.ndim > 2:  # the best over the other descriptors' cells
+        flat = heat.reshape(*heat.shape[:2], -1)
+        best = np.where(np.isnan(flat), -np.inf, flat).max(axis=2)
+        heat = np.where(np.isneginf(best), np.nan, best)
+    units = units or {}
+    fig, ax = plt.subplots(figsize=(6.4, 5.0))
+    xs = archive.edges(0)
+    ys = archive.edges(1) if len(archive.dims) > 1 else np.array([0.0, 1.0])
+    mesh = ax.pcolormesh(xs, ys, np.ma.masked_invalid(heat.T), cmap="viridis")
+    fig.colorbar(mesh, ax=ax, label="fitness", pad=0.12)
+
+    def label(i: int) -> str:
+        name = archive.names[i]
+        return f"{name} [{units[name]}]" if name in units else name
+
+    ax.set_xlabel(label(0))
+    if len(archive.dims) > 1:
+        ax.set_ylabel(label(1))
+    else:
+        ax.set_yticks([])
+    for axis, edges, side in ((ax.secondary_xaxis, xs, "top"),
+                              (ax.secondary_yaxis, ys, "right")):  # fmt: skip
+        if side == "right" and len(archive.dims) < 2:
+            continue
+        sec = axis(side)
+        cells = range(0, len(edges) - 1, max(1, (len(edges) - 1) // 10))
+        sec.set_ticks(
+            [(edges[i] + edges[i + 1]) / 2 for i in cells], [str(i) for i in cells]
+        )
+        sec.tick_params(labelsize=7)
+    more = f"; more descriptors: best over {', '.join(archive.names[2:])}"
+    ax.set_title(
+        (title + "\n" if title else "")
+        + f"{len(archive)} elites, coverage {archive.coverage:.0%}, "
+        f"QD score {archive.qd_score():.4g}" + (more if len(archive.dims) > 2 else ""),
+        fontsize=9,
+    )
+    _save(fig, path)

@@ -10,6 +10,10 @@ A **run** (``locustjump train``)::
     DIR/stop.json        why the optimizer stopped before the budget, if it did
     DIR/frozen.npz       behaviours built on frozen runs (composed): their genomes
                          (``simple.npz`` in runs made before config format 2)
+    DIR/archive.npz      a quality-diversity run (map-elites, cma-me): its
+                         elites, one per cell of the descriptor grid
+    DIR/archive.png      their fitness over the grid
+    DIR/elites/cell-I-J/ ``evaluate``/``render --cell I,J`` (or ``--elite K``)
     DIR/eval/            ``locustjump evaluate``: trajectories, figures, metrics.json
     DIR/sweep/           extra evaluations a behaviour declares (getup's sweep)
     DIR/video.mp4        ``locustjump render``
@@ -35,6 +39,13 @@ parsed (:mod:`.reads`) and checked before anything is written: arrays
 (:mod:`.lock`, :mod:`.outputs`).
 """
 
+from locustjump.rundir.archive import (
+    Elite,
+    has_archive,
+    load_elite,
+    read_archive,
+    write_archive,
+)
 from locustjump.rundir.checkpoint import read_checkpoint, write_checkpoint
 from locustjump.rundir.files import (
     append_line,
@@ -48,6 +59,7 @@ from locustjump.rundir.files import (
 from locustjump.rundir.layout import *  # noqa: F403
 from locustjump.rundir.layout import (
     derived_dir,
+    elite_dir,
     eval_metrics_path,
     is_multiseed,
     is_reproduction,

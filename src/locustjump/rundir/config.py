@@ -40,7 +40,7 @@ from typing import Any, TypeVar
 
 from locustjump import plugins
 from locustjump.errors import UserError
-from locustjump.evo import RCGAParams, params_class
+from locustjump.evo import QDParams, RCGAParams, params_class
 from locustjump.rundir.migrations import (
     CONFIG_FORMAT,
     hashed_config,
@@ -94,6 +94,13 @@ class TrainConfig:
                 f"engine must be one of {', '.join(ENGINES)}, got {self.engine!r}"
             )
         params_class(getattr(self.optimizer, "kind", None))
+        if isinstance(self.optimizer, QDParams):  # the task's descriptors
+            cls = behaviour_class(self.behaviour)
+            declared = {d.name: (d.low, d.high) for d in cls.descriptors}
+            opt = self.optimizer.with_task(
+                self.behaviour, declared, cls.default_descriptors
+            )
+            object.__setattr__(self, "optimizer", opt)
         kind = behaviour_class(self.behaviour).Options
         if self.options is None:
             object.__setattr__(self, "options", kind())
@@ -234,10 +241,12 @@ def terrains_from_table(table: Any, source: str) -> Terrains:
 
 
 def _table(obj: Any) -> dict[str, Any]:
-    return {
-        f.name: list(v) if isinstance(v := getattr(obj, f.name), tuple) else v
-        for f in dataclasses.fields(obj)
-    }
+    return {f.name: _plain(getattr(obj, f.name)) for f in dataclasses.fields(obj)}
+
+
+def _plain(v: Any) -> Any:
+    """Tuples (of tuples) as lists, as TOML and JSON hold them."""
+    return [_plain(x) for x in v] if isinstance(v, tuple) else v
 
 
 def optimizer_from_table(table: Any, source: str, section: str = "optimizer") -> Any:
@@ -274,8 +283,11 @@ def _kind(
         raise UserError(f"{source}: {section}.kind: {e}") from None
 
 
-def coerce(value: Any, default: Any, key: str, source: str) -> Any:
-    """``value`` as the type of ``default``, or a ``UserError`` naming ``key``."""
+def coerce(value: Any, default: Any, key: str, source: str, item: Any = 0) -> Any:
+    """``value`` as the type of ``default``, or a ``UserError`` naming ``key``;
+    an empty tuple ``default`` takes an array of any length, each entry as
+    the type of ``item`` (an integer unless the field's metadata names
+    another ``item``)."""
     ok: bool
     if isinstance(default, bool):
         ok = isinstance(value, bool)
@@ -290,12 +302,15 @@ def coerce(value: Any, default: Any, key: str, source: str) -> Any:
         value = float(value) if ok else value
     elif isinstance(default, str):
         ok = isinstance(value, str)
-    elif default == ():  # a list of integers of any length
+    elif default == ():  # a list of any length
         if not isinstance(value, list):
+            what = {int: "integers", str: "strings"}.get(type(item), "arrays")
             raise UserError(
-                f"{source}: {key} must be an array of integers, got {value!r}"
+                f"{source}: {key} must be an array of {what}, got {value!r}"
             )
-        return tuple(coerce(v, 0, f"{key}[{i}]", source) for i, v in enumerate(value))
+        return tuple(
+            coerce(v, item, f"{key}[{i}]", source) for i, v in enumerate(value)
+        )
     elif isinstance(default, tuple):
         if not isinstance(value, list) or len(value) != len(default):
             raise UserError(
@@ -321,12 +336,14 @@ def from_table(cls: type, table: Any, section: str, source: str) -> Any:
     if not isinstance(table, dict):
         raise UserError(f"{source}: {section} must be a table")
     defaults = cls()
-    names = {f.name for f in dataclasses.fields(cls)}
+    items = {f.name: f.metadata.get("item", 0) for f in dataclasses.fields(cls)}
     kwargs = {}
     for key, value in table.items():
-        if key not in names:
+        if key not in items:
             raise UserError(f"{source}: unknown key '{section}.{key}'")
-        kwargs[key] = coerce(value, getattr(defaults, key), f"{section}.{key}", source)
+        kwargs[key] = coerce(
+            value, getattr(defaults, key), f"{section}.{key}", source, items[key]
+        )
     try:
         return cls(**kwargs)
     except ValueError as e:

@@ -11,6 +11,9 @@ BEST = "best.npz"
 FITNESS_PNG = "fitness.png"
 STOP = "stop.json"  # why the optimizer stopped before the budget, if it did
 FROZEN = "frozen.npz"  # the frozen genomes a behaviour builds on
+ARCHIVE = "archive.npz"  # a quality-diversity run's elites (rundir.archive)
+ARCHIVE_PNG = "archive.png"  # its heatmap: fitness over the descriptor grid
+ELITES = "elites"  # directory: evaluate/render of one elite, cell-<i>-<j>/
 EVAL = "eval"  # directory
 EVAL_METRICS = "metrics.json"  # in EVAL
 SWEEP = "sweep"  # directory of a behaviour's extra evaluation
@@ -78,6 +81,12 @@ def seed_dir(d: Path, seed: int) -> Path:
 def is_rules_run(d: Path) -> bool:
     d = Path(d)
     return (d / RULES_SUMMARY).is_file() and (d / TRAJECTORY_CSV).is_file()
+
+
+def elite_dir(run: Path, cell: tuple[int, ...]) -> Path:
+    """Where evaluate and render write what they derive from the elite in
+    grid cell ``cell`` of run ``run``'s archive (under :func:`derived_dir`)."""
+    return derived_dir(run) / ELITES / ("cell-" + "-".join(map(str, cell)))
 
 
 def eval_metrics_path(run: Path) -> Path:

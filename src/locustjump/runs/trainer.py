@@ -26,8 +26,9 @@ from tqdm.auto import tqdm
 
 from locustjump import rundir
 from locustjump.errors import UserError, setting_ref
-from locustjump.evo import Optimizer, make_optimizer
+from locustjump.evo import Optimizer, QDOptimizer, make_optimizer
 from locustjump.present.plots import fitness_curves
+from locustjump.present.repertoire import archive_figure
 from locustjump.rundir import BestGenome, FrozenGenomes
 from locustjump.rundir.config import TrainConfig
 from locustjump.sim import model as lm
@@ -90,8 +91,15 @@ class Trainer:
             self.opt.state(),
         )
 
+    def write_archive(self) -> None:
+        """``archive.npz``: a QD optimizer's elites (others keep none)."""
+        if isinstance(self.opt, QDOptimizer):
+            rundir.write_archive(
+                self.out / rundir.ARCHIVE, self.cfg, self.opt.archive()
+            )
+
     def restore(self) -> None:
-        """Back to the last checkpoint."""
+        """Back to the last checkpoint (and the archive of its generation)."""
         path = self.out / rundir.CHECKPOINT
         self.best, self.metrics_row, state = rundir.read_checkpoint(
             path, self.cfg, self.num_params
@@ -100,6 +108,7 @@ class Trainer:
             self.opt.load_state(state)
         except (ValueError, KeyError, TypeError, AttributeError, OverflowError) as e:
             raise UserError(f"{path}: malformed checkpoint ({e})") from None
+        self.write_archive()  # killed between the two writes: one behind
 
     def run(
         self, *, progress: bool = True, stop_after: int | None = None
@@ -131,7 +140,10 @@ class Trainer:
                 t0 = time.perf_counter()
                 x = opt.ask()
                 fit, res = beh.evaluate(x, p, backend=backend, engine=cfg.engine)
-                opt.tell(fit)
+                names = (
+                    opt.descriptor_names
+                )  # quality diversity: how, not only how well
+                opt.tell(fit, beh.describe(res, p, names) if names else None)
                 g = opt.generation
                 i = int(np.argmax(fit))
                 if run.best is None or fit[i] > run.best.fitness:
@@ -152,6 +164,7 @@ class Trainer:
                 run.checkpoint(
                     rundir.metrics_line(row, wall, res.control_steps / wall, diag)
                 )
+                run.write_archive()  # after the checkpoint, which can replay it
                 wall = time.perf_counter() - t0
                 rate = res.control_steps / wall
                 # the checkpoint already holds this row: a failed append loses
@@ -176,6 +189,7 @@ class Trainer:
             bar.close()
             try:
                 fitness_figure(run.out)
+                archive_figure(run.out)
             except Exception:
                 if not failed:  # else the first error is the one to report
                     raise

@@ -22,6 +22,7 @@ from locustjump.sim.engine.rollout import (
     rollout,
 )
 from locustjump.sim.scene import Scene, Terrains
+from locustjump.tasks.descriptors import Descriptor, describe
 from locustjump.tasks.reference import RulesRun, run_rules
 
 if TYPE_CHECKING:
@@ -138,6 +139,11 @@ class Behaviour:
                                 option of ``train``)
     :meth:`episode_terms`       the named terms its fitness adds up (default:
                                 none)
+    ``descriptors``,            its behaviour descriptors (quality diversity:
+    :meth:`episode_descriptors` :mod:`.descriptors`) and their values per
+                                episode; ``default_descriptors`` those a grid
+                                archive is over unless a run names others
+                                (default: none)
     ==========================  ================================================
 
     Its figures and rows of ``results.md``: a
@@ -157,6 +163,8 @@ class Behaviour:
     memory_labels: ClassVar[tuple[str, ...] | None] = None
     gym_id: ClassVar[str | None] = None
     Options: ClassVar[type] = CommonOptions
+    descriptors: ClassVar[tuple[Descriptor, ...]] = ()
+    default_descriptors: ClassVar[tuple[str, ...]] = ()
 
     def __init__(
         self,
@@ -206,6 +214,13 @@ class Behaviour:
     ) -> dict[str, np.ndarray]:
         """Named ``(n_episodes,)`` terms that :meth:`episode_fitness` adds up,
         in the order added; empty (the default): no split."""
+        return {}
+
+    def episode_descriptors(
+        self, res: RolloutResult, p: lm.LocustParams
+    ) -> dict[str, np.ndarray]:
+        """``(n_episodes,)`` values of each of :attr:`descriptors`, by name,
+        from the records its fitness reads (default: none)."""
         return {}
 
     def reference(
@@ -294,6 +309,22 @@ class Behaviour:
             v = np.where(res.unstable, self.worst_fitness if i == 0 else 0.0, v)
             out[name] = v.reshape(-1, k).mean(axis=1)
         return out
+
+    def describe(
+        self, res: RolloutResult, p: lm.LocustParams, names: tuple[str, ...]
+    ) -> np.ndarray:
+        """``(n_controllers, len(names))`` the descriptors ``names`` of the
+        controllers of ``res`` (what :meth:`evaluate` returned): an unstable
+        episode at each descriptor's low bound, the mean over start states
+        and terrains (:func:`~.descriptors.describe`)."""
+        return describe(
+            self.episode_descriptors(res, p) if self.descriptors else {},
+            self.descriptors,
+            names,
+            res.unstable,
+            len(self.start_states(p)),
+            len(self.terrains.scenes),
+        )
 
     def evaluate(
         self,

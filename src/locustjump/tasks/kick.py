@@ -21,6 +21,7 @@ from locustjump.sim.engine.job import RolloutResult, StartStates
 from locustjump.sim.model import CONTROL_DT
 from locustjump.sim.scene import Flat, Scene
 from locustjump.tasks.base import Behaviour, StepReward
+from locustjump.tasks.descriptors import Descriptor
 from locustjump.tasks.reference import RulesRun
 from locustjump.tasks.starts import ready_state
 
@@ -37,6 +38,27 @@ def kick_fitness(qpos: np.ndarray) -> np.ndarray:
     dx = np.maximum(d[:, :, 0], 0.0)
     dz = np.maximum(d[:, :, 2], 0.0)
     return (dx * dz).max(axis=1)
+
+
+def kick_descriptors(qpos: np.ndarray, body_length: float) -> dict[str, np.ndarray]:
+    """The kick's behaviour descriptors (module docstring) of trajectories
+    ``qpos (n, T + 1, nq)``: ``(n,)`` each, lengths in body lengths."""
+    apex = np.argmax(qpos[:, :, 2], axis=1)
+    at = qpos[np.arange(len(qpos)), apex, :3] - qpos[:, 0, :3]
+    rise, ahead = at[:, 2], at[:, 0]
+    return {
+        "apex_rise": rise / body_length,
+        "apex_distance": ahead / body_length,
+        "apex_angle": np.degrees(np.arctan2(rise, ahead)),
+    }
+
+
+#: the kick's behaviour descriptors (module docstring)
+KICK_DESCRIPTORS = (
+    Descriptor("apex_rise", 0.0, 5.0, "L", "the apex's height over the start"),
+    Descriptor("apex_distance", -5.0, 15.0, "L", "the apex's distance ahead"),
+    Descriptor("apex_angle", 0.0, 180.0, "deg", "the apex's direction"),
+)
 
 
 def takeoff(qpos: np.ndarray, touch: np.ndarray, apex: int) -> tuple[int, float, float]:
@@ -75,12 +97,19 @@ class Kick(Behaviour):
     record = ("qpos",)
     worst_fitness = 0.0
     gym_id: ClassVar[str | None] = "LocustKick-v0"
+    descriptors = KICK_DESCRIPTORS
+    default_descriptors = ("apex_distance", "apex_rise")
 
     def start_states(self, p: lm.LocustParams) -> StartStates:
         return ready_start(p, self.scene)
 
     def episode_fitness(self, res: RolloutResult, p: lm.LocustParams) -> np.ndarray:
         return kick_fitness(res["qpos"])
+
+    def episode_descriptors(
+        self, res: RolloutResult, p: lm.LocustParams
+    ) -> dict[str, np.ndarray]:
+        return kick_descriptors(res["qpos"], p.body_length)
 
     def metrics(
         self,
