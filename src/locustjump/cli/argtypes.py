@@ -59,6 +59,19 @@ def option_type(name: str, default: object):
     return str
 
 
+def _cell(text: str) -> tuple[int, ...]:
+    """``--cell I,J``: a grid cell, one index (from 0) per descriptor."""
+    try:
+        cell = tuple(int(t) for t in text.split(","))
+    except ValueError:
+        cell = ()
+    if not cell or min(cell) < 0:
+        raise argparse.ArgumentTypeError(
+            f"--cell must be indices >= 0 separated by commas (e.g. 3,7), got {text!r}"
+        )
+    return cell
+
+
 def _seeds(text: str) -> list[int]:
 
     try:

@@ -167,16 +167,19 @@ def cmd_train(args: argparse.Namespace) -> int:
 def cmd_evaluate(args: argparse.Namespace) -> int:
 
     scene = scene_override(args, args.run)
+    pick = {"elite": args.elite, "cell": args.cell}
     if args.terrain_seeds is not None:
         te = evaluate_terrains(
-            args.run, args.terrain_seeds, scene=scene, backend=_backend(args)
+            args.run, args.terrain_seeds, scene=scene, backend=_backend(args), **pick
         )
         print(json.dumps(te.to_dict(), indent=2) if args.json else terrain_table(te))
         return 0
     eval_dir = None
     if args.out is not None:
         eval_dir = rundir.check_out_dir(args.out, force=args.force)
-    ev = evaluate_run(args.run, backend=_backend(args), eval_dir=eval_dir, scene=scene)
+    ev = evaluate_run(
+        args.run, backend=_backend(args), eval_dir=eval_dir, scene=scene, **pick
+    )
     if args.json:
         print(json.dumps(ev.to_dict(), indent=2))
     else:
@@ -187,8 +190,12 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
             f"{ev.behaviour}: fitness {ev.fitness:.10g} "
             f"(recorded {ev.recorded_fitness:.10g}: {status})"
         )
-        width = max(map(len, ev.metrics))
-        for k, v in ev.metrics.items():
+        shown = dict(ev.metrics)
+        if ev.descriptors is not None:  # an elite: where it sits, re-simulated
+            shown |= {f"{k} (recorded {ev.recorded_descriptors[k]:.6g})": v
+                      for k, v in ev.descriptors.items()}  # fmt: skip
+        width = max(map(len, shown))
+        for k, v in shown.items():
             text = f"{v:.4g}" if isinstance(v, float) else str(v)
             print(f"  {k:<{width}}  {text}")
         print("wrote " + ", ".join(str(f) for f in ev.files))
@@ -277,6 +284,8 @@ def cmd_render(args: argparse.Namespace) -> int:
         progress=not args.quiet,
         backend=_backend(args),
         scene=scene_override(args, args.dir),
+        elite=args.elite,
+        cell=args.cell,
     )
     print(f"wrote {out}")
     return 0

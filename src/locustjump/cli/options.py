@@ -7,7 +7,12 @@ from __future__ import annotations
 import argparse
 import dataclasses
 
-from locustjump.cli.argtypes import _int_at_least, _positive_float, option_type
+from locustjump.cli.argtypes import (
+    _cell,
+    _int_at_least,
+    _positive_float,
+    option_type,
+)
 from locustjump.evo import optimizer_kinds
 from locustjump.sim.engine.backends import BACKENDS
 from locustjump.sim.engine.job import ENGINES
@@ -58,6 +63,25 @@ def add_scene(
         )
 
 
+def add_elite(p: argparse.ArgumentParser) -> None:
+    """``--elite K`` or ``--cell I,J``: one elite of a quality-diversity run."""
+    g = p.add_mutually_exclusive_group()
+    g.add_argument(
+        "--elite",
+        type=_int_at_least("--elite", 0),
+        metavar="K",
+        help="a quality-diversity run (map-elites, cma-me): its archive's K-th "
+        "best elite instead of the best genome (0: the best; default: none)",
+    )
+    g.add_argument(
+        "--cell",
+        type=_cell,
+        metavar="I,J",
+        help="... or the elite in this cell of its descriptor grid (indices "
+        "from 0, as DIR/archive.png's top and right axes count them)",
+    )
+
+
 def add_backend(p: argparse.ArgumentParser) -> None:
 
     p.add_argument(
@@ -93,7 +117,9 @@ def add_optimizer(p: argparse.ArgumentParser, default: str | None) -> None:
         choices=optimizer_kinds(),
         default=default,
         help="rcga: the paper's GA (default); cma: CMA-ES (pycma); random: "
-        "random search" + ("" if default else "; --resume: the run's"),
+        "random search; map-elites, cma-me: quality diversity (pyribs), a "
+        "repertoire over the task's behaviour descriptors"
+        + ("" if default else "; --resume: the run's"),
     )
     p.add_argument(
         "--engine",

@@ -17,6 +17,7 @@ from locustjump.cli.argtypes import (
 from locustjump.cli.options import (
     add_backend,
     add_behaviour_options,
+    add_elite,
     add_optimizer,
     add_scene,
     behaviours_help,
@@ -237,6 +238,7 @@ def build_parser() -> argparse.ArgumentParser:
         action="store_true",
         help="write into a non-empty --out (default: refuse)",
     )
+    add_elite(p)
     add_scene(p, of_run=True)
     p.add_argument(
         "--terrain-seeds",

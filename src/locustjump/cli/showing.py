@@ -7,7 +7,7 @@ import argparse
 
 from locustjump.cli import commands as cmd
 from locustjump.cli.argtypes import _positive_float, out_path
-from locustjump.cli.options import add_backend, add_scene
+from locustjump.cli.options import add_backend, add_elite, add_scene
 from locustjump.present.compare import KEYS
 from locustjump.present.render import CAMERAS
 
@@ -53,6 +53,7 @@ def add_showing_commands(sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--quiet", action="store_true", help="no progress bar (default: shown)"
     )
+    add_elite(p)
     add_scene(p, of_run=True)
     add_backend(p)
     p.set_defaults(func=cmd.cmd_render)

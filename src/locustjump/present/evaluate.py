@@ -29,10 +29,17 @@ class Evaluation:
     #: evaluated in another scene than the run trained in (``--scene``): its
     #: fitness is not expected to be the recorded one
     elsewhere: bool = False
+    #: an elite of the run's archive (``--elite``/``--cell``): its behaviour
+    #: descriptors re-simulated and as the archive holds them, by name
+    descriptors: dict[str, float] | None = None
+    recorded_descriptors: dict[str, float] | None = None
 
     @property
     def matches(self) -> bool:
-        return self.elsewhere or self.fitness == self.recorded_fitness
+        return self.elsewhere or (
+            self.fitness == self.recorded_fitness
+            and self.descriptors == self.recorded_descriptors
+        )
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -41,6 +48,14 @@ class Evaluation:
             "recorded_fitness": self.recorded_fitness,
             "fitness_matches": self.matches,
             "other_scene": self.elsewhere,
+            **(
+                {}
+                if self.descriptors is None
+                else {
+                    "descriptors": self.descriptors,
+                    "recorded_descriptors": self.recorded_descriptors,
+                }
+            ),  # fmt: skip
             "metrics": self.metrics,
             "files": [str(f) for f in self.files],
         }
@@ -52,6 +67,8 @@ def evaluate_run(
     backend: Backend | None = None,
     eval_dir: str | os.PathLike | None = None,
     scene: Scene | None = None,
+    elite: int | None = None,
+    cell: tuple[int, ...] | None = None,
 ) -> Evaluation:
     """Re-simulate a run's best genome; write its trajectory CSVs and the
     behaviour's figures into ``eval_dir``, by default ``DIR/eval/`` (for a
@@ -61,19 +78,27 @@ def evaluate_run(
     Trained on several terrains, its fitness is theirs combined (as
     recorded); its metrics and figures are of the first.
 
+    ``elite``/``cell``: a quality-diversity run's ``elite``-th best elite, or
+    the one in grid cell ``cell``, in place of the best genome (default
+    directory ``DIR/elites/cell-I-J/``); its fitness and descriptors are
+    checked against the archive's.
+
     ``eval/`` holds derived files only: they are rewritten on every call.
     """
     out = Path(path)
+    pick = {"elite": elite, "cell": cell}
     if eval_dir is None:
+        _, _, best = rundir.load_elite(out, **pick)  # named before the lock
         ev = rundir.derived_dir(out) / rundir.EVAL
-        if ev.resolve().parent != out.resolve():  # a shipped run is not written
-            return evaluate_run(out, backend=backend, eval_dir=ev, scene=scene)
-        rundir.load_run(out)  # named before the lock is asked for
+        if isinstance(best, rundir.Elite):
+            ev = rundir.elite_dir(out, best.cell)
+        if rundir.derived_dir(out) != out:  # a shipped run is not written
+            return evaluate_run(out, backend=backend, eval_dir=ev, scene=scene, **pick)
         with rundir.locked(out):  # the run's own eval/: from reading to writing
-            return evaluate_run(out, backend=backend, eval_dir=ev, scene=scene)
+            return evaluate_run(out, backend=backend, eval_dir=ev, scene=scene, **pick)
     if backend is None:
         backend = ThreadBackend()
-    cfg, beh, best = rundir.load_run(out)
+    cfg, beh, best = rundir.load_elite(out, **pick)
     elsewhere = scene is not None and Terrains(scene) != beh.terrains
     if scene is not None:
         beh = beh.on(scene)
@@ -87,9 +112,16 @@ def evaluate_run(
     reference = beh.reference(p, backend=backend, engine=cfg.engine)
     metrics = beh.metrics(res, p, best.genome, reference)
     episodes = Episodes(beh, res, p, reference)
-    return _write(
+    done = _write(
         cfg, best, episodes, float(fit[0]), plain(metrics), Path(eval_dir), elsewhere
     )
+    if isinstance(best, rundir.Elite):  # where it sits, as re-simulated
+        here = beh.describe(res, p, best.names)[0]
+        done.descriptors = dict(zip(best.names, map(float, here), strict=True))
+        done.recorded_descriptors = dict(
+            zip(best.names, best.descriptors, strict=True)
+        )
+    return done
 
 
 def plain(value: Any) -> Any:
@@ -180,14 +212,17 @@ def evaluate_terrains(
     *,
     scene: Scene | None = None,
     backend: Backend | None = None,
+    elite: int | None = None,
+    cell: tuple[int, ...] | None = None,
 ) -> TerrainEvaluation:
     """Re-score run ``path``'s best genome on each terrain seed of ``seeds``
     (of ``scene``'s kind and parameters, default the run's own scene): its
     fitness and metrics there, and the generalisation gap to the training
-    fitness. Writes nothing."""
+    fitness (``elite``/``cell``: an elite of its archive in place of the best
+    genome, :func:`evaluate_run`). Writes nothing."""
     if backend is None:
         backend = ThreadBackend()
-    cfg, beh, best = rundir.load_run(Path(path))
+    cfg, beh, best = rundir.load_elite(Path(path), elite=elite, cell=cell)
     base = beh.terrains.scene if scene is None else scene
     if not base.seeded:
         raise UserError(

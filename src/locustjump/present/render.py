@@ -119,11 +119,19 @@ class Source:
     scene: Scene = Flat()  # the world it runs in
 
 
-def source_of(path: str | os.PathLike, scene: Scene | None = None) -> Source:
+def source_of(
+    path: str | os.PathLike,
+    scene: Scene | None = None,
+    *,
+    elite: int | None = None,
+    cell: tuple[int, ...] | None = None,
+) -> Source:
     """What directory ``path`` holds: a training run's best genome
-    (``config.toml`` + ``best.npz``) or a rule-based run (``locustjump rules``
-    or a reproduction's ``rules/``: ``summary.json`` + ``trajectory.csv``), in
-    its own scene (a run's first training terrain) or in ``scene``."""
+    (``config.toml`` + ``best.npz``; ``elite``/``cell``: an elite of its
+    archive instead, :func:`locustjump.rundir.load_elite`) or a rule-based
+    run (``locustjump rules`` or a reproduction's ``rules/``:
+    ``summary.json`` + ``trajectory.csv``), in its own scene (a run's first
+    training terrain) or in ``scene``."""
     out = Path(path)
     if not out.is_dir():
         raise UserError(f"{out}: no such directory")
@@ -132,6 +140,8 @@ def source_of(path: str | os.PathLike, scene: Scene | None = None) -> Source:
             f"{out}: a reproduction; give one of its stages, e.g. {out / 'kick'}"
         )
     if not rundir.is_run(out):
+        if elite is not None or cell is not None:  # says it has no run
+            rundir.load_elite(out, elite=elite, cell=cell)
         rules = _rules_run(out)
         if rules is None:
             raise UserError(
@@ -152,10 +162,15 @@ def source_of(path: str | os.PathLike, scene: Scene | None = None) -> Source:
             f"rule-based, change time {change_time:.3f} s",
             scene=scene,
         )
-    cfg, beh, best = rundir.load_run(out)
+    cfg, beh, best = rundir.load_elite(out, elite=elite, cell=cell)
     if scene is not None:
         beh = beh.on(scene)
     labels = beh.state_labels()
+    what = (
+        f"{best.label}, found in generation {best.generation}"
+        if isinstance(best, rundir.Elite)
+        else f"best of generation {best.generation}"
+    )
     return Source(
         cfg.model,
         cfg.engine,
@@ -164,8 +179,7 @@ def source_of(path: str | os.PathLike, scene: Scene | None = None) -> Source:
         beh.start_states(cfg.model),
         beh.n_steps,
         labels if len(labels) > 1 else [cfg.behaviour],
-        f"{cfg.behaviour}, best of generation {best.generation}, "
-        f"fitness {best.fitness:.4g}",
+        f"{cfg.behaviour}, {what}, fitness {best.fitness:.4g}",
         beh.memory_labels,
         beh.scene,
     )
@@ -176,10 +190,13 @@ def playback_of(
     *,
     backend: Backend | None = None,
     scene: Scene | None = None,
+    elite: int | None = None,
+    cell: tuple[int, ...] | None = None,
 ) -> Playback:
     """Re-simulate what directory ``path`` holds (:func:`source_of`; in
-    ``scene`` if given) with the engine, keeping every control step."""
-    src = source_of(path, scene)
+    ``scene`` if given; ``elite``/``cell``: an elite of its archive) with the
+    engine, keeping every control step."""
+    src = source_of(path, scene, elite=elite, cell=cell)
     record = ("qpos",) if src.memory_names is None else ("qpos", "memory")
     res = rollout(
         src.controller, src.params, src.starts, src.n_steps,
@@ -354,15 +371,23 @@ def render_run(
     backend: Backend | None = None,
     scene: Scene | None = None,
     label: str | None = None,
+    elite: int | None = None,
+    cell: tuple[int, ...] | None = None,
 ) -> Path:
     """Video of what directory ``path`` holds (default ``path/video.mp4``; a
     shipped run's under ``runs/shipped/``: :func:`locustjump.rundir.derived_dir`),
     in its own scene or ``scene``; ``progress``: a bar over the frames, called
-    ``label`` (default ``render`` and the file's name)."""
+    ``label`` (default ``render`` and the file's name); ``elite``/``cell``: an
+    elite of a quality-diversity run's archive (default
+    ``DIR/elites/cell-I-J/video.mp4``)."""
     if out is None:
-        out = rundir.derived_dir(Path(path)) / rundir.VIDEO
         if not Path(path).is_dir():
             raise UserError(f"{path}: no such directory")
+        out = rundir.derived_dir(Path(path)) / rundir.VIDEO
+        if elite is not None or cell is not None:  # it exists: before mkdir
+            _, _, chosen = rundir.load_elite(path, elite=elite, cell=cell)
+            assert isinstance(chosen, rundir.Elite)
+            out = rundir.elite_dir(Path(path), chosen.cell) / rundir.VIDEO
         out.parent.mkdir(parents=True, exist_ok=True)
     out = Path(out)
     check_video_path(out, force=force)
@@ -370,7 +395,7 @@ def render_run(
         raise UserError(f"unknown camera {camera!r}; one of {', '.join(CAMERAS)}")
     with rundir.locked(out.parent):  # the directory written into
         check_video_path(out, force=force)  # another process was first?
-        pb = playback_of(path, backend=backend, scene=scene)
+        pb = playback_of(path, backend=backend, scene=scene, elite=elite, cell=cell)
         label = f"render {out.name}" if label is None else label
         return _encode(pb, out, fps, camera, force, label if progress else None)
 

@@ -175,6 +175,14 @@ def _figures(d: Path, eval_dir: Path | None = None) -> list[Path]:
     return found
 
 
+#: a quality-diversity run's columns of metrics.csv, as the report names them
+_QD_COLUMNS = {
+    "qd_score": "QD score (sum of the elites' fitness)",
+    "coverage": "coverage (cells holding an elite)",
+    "archive_best": "best elite's fitness",
+}
+
+
 def _run_section(
     d: Path,
     metrics: dict[str, Any] | None,
@@ -194,20 +202,29 @@ def _run_section(
     if len(rows):
         last = rows[-1]
         parts.append(f"<{h}>Training</{h}>")
-        parts.append(
-            _table(
-                {
-                    "generations": int(last["generation"]),
-                    "best fitness (last generation)": float(last["best"]),
-                    "population mean (last generation)": float(last["mean"]),
-                    "wall time (s)": round(float(rows["wall_s"].sum()), 1),
-                    "control steps/s (last generation)": float(last["steps_per_s"]),
-                }
-            )
-        )
+        training = {
+            "generations": int(last["generation"]),
+            "best fitness (last generation)": float(last["best"]),
+            "population mean (last generation)": float(last["mean"]),
+            "wall time (s)": round(float(rows["wall_s"].sum()), 1),
+            "control steps/s (last generation)": float(last["steps_per_s"]),
+        }
+        for key, what in _QD_COLUMNS.items():  # a quality-diversity run's
+            if key in (rows.dtype.names or ()):
+                training[what] = float(last[key])
+        parts.append(_table(training))
     fit = d / rundir.FITNESS_PNG
     if fit.is_file():
         parts.append(_figure(fit, "best and mean fitness per generation"))
+    archive = d / rundir.ARCHIVE_PNG
+    if archive.is_file():
+        parts.append(
+            _figure(
+                archive,
+                "the repertoire: each cell's elite's fitness over the behaviour "
+                "descriptors (locustjump evaluate/render --cell I,J plays one)",
+            )
+        )
     if metrics is not None:
         parts.append(f"<{h}>Best controller</{h}>")
         parts.append(_metrics_table(metrics))
