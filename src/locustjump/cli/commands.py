@@ -143,6 +143,7 @@ def cmd_train(args: argparse.Namespace) -> int:
             dirs,
             cfg.model,
             behaviour_class(args.behaviour).frozen_num_params(),
+            behaviour_class(args.behaviour).frozen_elites(cfg.options),
         )
     res = train(
         cfg,

@@ -138,6 +138,9 @@ _BEHAVIOUR_HELP = {
     "return-legs": "return the hind legs to the ready posture",
     "composed": "a switcher between 3 frozen runs (--kick, --getup, --return-legs)",
     "monolithic": "beyond the paper: one network on the composed task",
+    "composed-repertoire": "beyond the paper: a switcher among a kick repertoire's "
+    "best elites ([options] elites, from a map-elites or cma-me --kick run), "
+    "--getup and --return-legs",
     "kick-apex": "beyond the paper: the kick, fitness the apex rise (m)",
     "kick-open": "beyond the paper: the kick (Eq. 1) as an open-loop sequence of "
     "target changes (240 genes) instead of a network",

@@ -150,7 +150,10 @@ def composed_figure(
         ax.set_title(title)
     if selected is not None:
         tl = axes[1, 0]
-        colors = ListedColormap(["tab:red", "tab:green", "tab:blue"][: len(names)])
+        palette = ["tab:red", "tab:green", "tab:blue"]
+        if len(names) > len(palette):  # a repertoire's: its elites, then the rest
+            palette = [plt.get_cmap("tab20")(i % 20) for i in range(len(names))]
+        colors = ListedColormap(palette[: len(names)])
         tl.imshow(
             selected[None, :],
             aspect="auto",

@@ -39,14 +39,9 @@ parsed (:mod:`.reads`) and checked before anything is written: arrays
 (:mod:`.lock`, :mod:`.outputs`).
 """
 
-from locustjump.rundir.archive import (
-    Elite,
-    has_archive,
-    load_elite,
-    read_archive,
-    write_archive,
-)
+from locustjump.rundir.archive import has_archive, read_archive, write_archive
 from locustjump.rundir.checkpoint import read_checkpoint, write_checkpoint
+from locustjump.rundir.elites import Elite, load_elite
 from locustjump.rundir.files import (
     append_line,
     atomic_path,

@@ -6,7 +6,6 @@ was written and of this run's grid (its ``config.toml``)."""
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -18,7 +17,6 @@ from locustjump.rundir.files import save_npz
 from locustjump.rundir.layout import ARCHIVE, CONFIG, FORMAT
 from locustjump.rundir.migrations import npz_format
 from locustjump.rundir.reads import load_npz
-from locustjump.rundir.run import BestGenome, load_run
 
 _KEYS = (
     "format", "behaviour", "config_hash", "names", "lows", "highs", "dims",
@@ -106,67 +104,3 @@ def read_archive(out: str | os.PathLike, cfg, num_params: int) -> Archive:
         )
     except ValueError as e:
         raise UserError(f"{path}: {e}") from None
-
-
-@dataclass(frozen=True)
-class Elite(BestGenome):
-    """One elite of a run's archive, as ``best.npz``'s best genome is read
-    (its ``fitness`` the archive's, ``generation`` the one that found it),
-    with where it sits: its ``rank`` by fitness (0: the best), its ``cell``
-    and its ``descriptors`` (``names``)."""
-
-    rank: int = 0
-    cell: tuple[int, ...] = ()
-    names: tuple[str, ...] = ()
-    descriptors: tuple[float, ...] = ()
-
-    @property
-    def label(self) -> str:
-        return f"elite {self.rank} (cell {','.join(map(str, self.cell))})"
-
-
-def load_elite(
-    path: str | os.PathLike,
-    *,
-    elite: int | None = None,
-    cell: tuple[int, ...] | None = None,
-):
-    """:func:`~locustjump.rundir.run.load_run`'s ``(TrainConfig, Behaviour,
-    genome)``, the genome the ``elite``-th best of the run's archive or the
-    elite in grid cell ``cell`` (an :class:`Elite`); neither given: the best
-    genome (``best.npz``). ``UserError`` naming the option if that elite
-    does not exist."""
-    cfg, beh, best = load_run(path)
-    if elite is None and cell is None:
-        return cfg, beh, best
-    if elite is not None and cell is not None:
-        raise UserError("--elite and --cell: give one of them")
-    option = (
-        f"--elite {elite}" if cell is None else f"--cell {','.join(map(str, cell))}"
-    )
-    if not has_archive(cfg):
-        raise UserError(
-            f"{option}: {path} is a {cfg.optimizer.kind} run; only a quality-"
-            "diversity run (map-elites, cma-me) keeps an archive of elites"
-        )
-    archive = read_archive(path, cfg, beh.controller.num_params)
-    try:
-        i = archive.at_rank(elite) if cell is None else archive.at_cell(tuple(cell))
-    except IndexError as e:
-        raise UserError(f"{option}: {e} ({Path(path) / ARCHIVE})") from None
-    rank = int(np.flatnonzero(archive.ranked() == i)[0])
-    return (
-        cfg,
-        beh,
-        Elite(
-            archive.solution[i],
-            float(archive.objective[i]),
-            int(archive.generation[i]),
-            cfg.behaviour,
-            cfg.hash(),
-            rank,
-            tuple(int(c) for c in archive.grid_index()[i]),
-            archive.names,
-            tuple(float(m) for m in archive.measures[i]),
-        ),
-    )

@@ -5,6 +5,7 @@ from __future__ import annotations
 import dataclasses
 import hashlib
 import os
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -12,6 +13,7 @@ from typing import Any
 import numpy as np
 
 from locustjump.errors import UserError, setting_ref
+from locustjump.rundir.archive import has_archive, read_archive
 from locustjump.rundir.arrays import genomes, scalar
 from locustjump.rundir.config import TrainConfig
 from locustjump.rundir.files import save_npz, write_toml
@@ -118,9 +120,11 @@ def frozen_setting(behaviour: str) -> str:
 class FrozenGenomes:
     """The frozen networks a behaviour builds on (``DIR/frozen.npz``).
 
-    ``genomes`` (k, P) in the order of the behaviour's ``requires``;
-    ``sources`` the run directories they came from and ``hashes`` those runs'
-    config hashes (for the record: the run never reads them again).
+    ``genomes`` (k, P), one per name of ``behaviours``: the behaviour's
+    ``requires`` in order, a run that gives several (the best elites of its
+    archive: ``Behaviour.frozen_names``) repeated; ``sources`` the run
+    directories they came from and ``hashes`` those runs' config hashes (for
+    the record: the run never reads them again).
     """
 
     behaviours: tuple[str, ...]
@@ -141,13 +145,17 @@ class FrozenGenomes:
         dirs: dict[str, Any],
         model: LocustParams,
         frozen_size: int | None = None,
+        elites: Mapping[str, int] | None = None,
     ) -> FrozenGenomes:
         """Best genomes of the runs ``dirs[name]`` for each name in ``required``;
         each must hold that behaviour, or a variant of it with the same network
         (e.g. a ``kick-apex`` run for the kick), and the creature ``model``
-        (``UserError`` naming the directory otherwise)."""
+        (``UserError`` naming the directory otherwise). ``elites`` maps a name
+        to how many genomes its run gives: the best elites of its archive (a
+        quality-diversity run), best first, in place of its best genome."""
 
-        genomes, sources, hashes = [], [], []
+        elites = dict(elites or {})
+        genomes, names, sources, hashes = [], [], [], []
         for name in required:
             if dirs.get(name) is None:
                 raise UserError(
@@ -158,7 +166,7 @@ class FrozenGenomes:
                     + f" (missing {setting_ref(frozen_setting(name))})"
                 )
             d = Path(dirs[name])
-            cfg, _, best = load_run(d)
+            cfg, beh, best = load_run(d)
             variant = issubclass(behaviour_class(cfg.behaviour), behaviour_class(name))
             size = best.genome.size
             if not variant or size != (frozen_size or size):
@@ -185,10 +193,14 @@ class FrozenGenomes:
                     "differ from this run's "
                     f"({', '.join(diff)})"
                 )
-            genomes.append(best.genome)
-            sources.append(str(d))
-            hashes.append(best.config_hash)
-        return cls(tuple(required), np.stack(genomes), tuple(sources), tuple(hashes))
+            taken = [best.genome]
+            if name in elites:
+                taken = _best_elites(d, cfg, beh, elites[name], name)
+            genomes += taken
+            names += [name] * len(taken)
+            sources += [str(d)] * len(taken)
+            hashes += [best.config_hash] * len(taken)
+        return cls(tuple(names), np.stack(genomes), tuple(sources), tuple(hashes))
 
     def save(self, path: Path) -> None:
         save_npz(
@@ -204,6 +216,8 @@ class FrozenGenomes:
     def load(
         cls, path: Path, required: tuple[str, ...], num_params: int
     ) -> FrozenGenomes:
+        """``frozen.npz`` of the genomes of runs ``required``, one name per
+        genome (a run that gives several elites, :meth:`from_runs`, repeated)."""
         z = load_npz(
             path,
             ("format", "behaviours", "genomes", "sources", "hashes"),
@@ -225,6 +239,25 @@ class FrozenGenomes:
         )
 
 
+def _best_elites(
+    d: Path, cfg: TrainConfig, beh: Behaviour, k: int, name: str
+) -> list[np.ndarray]:
+    """The ``k`` best elites of run ``d``'s archive (``UserError`` if it
+    keeps none, or fewer)."""
+    if not has_archive(cfg):
+        raise UserError(
+            f"--{name} {d}: a {cfg.optimizer.kind} run; the composition takes "
+            f"{k} elites of a quality-diversity run's archive (map-elites, cma-me)"
+        )
+    archive = read_archive(d, cfg, beh.controller.num_params)
+    if len(archive) < k:
+        raise UserError(
+            f"--{name} {d}: its archive holds {len(archive)} elites; the "
+            f"composition takes {k} ([options] elites)"
+        )
+    return [archive.solution[i] for i in archive.ranked()[:k]]
+
+
 def frozen_of(cfg: TrainConfig, out: Path) -> FrozenGenomes | None:
     """The frozen genomes the run in ``out`` builds on (``frozen.npz``),
     checked against its config; None for a behaviour built on none."""
@@ -233,7 +266,8 @@ def frozen_of(cfg: TrainConfig, out: Path) -> FrozenGenomes | None:
     if not cls.requires:
         return None
     path = frozen_path(out)
-    frozen = FrozenGenomes.load(path, cls.requires, cls.frozen_num_params())
+    names = cls.frozen_names(cfg.options)
+    frozen = FrozenGenomes.load(path, names, cls.frozen_num_params())
     if frozen.digest != cfg.frozen_digest:
         raise UserError(
             f"{path}: its genomes (digest {frozen.digest}) are not the ones "

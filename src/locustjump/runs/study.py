@@ -78,7 +78,8 @@ def behaviour_for(cfg: TrainConfig) -> Behaviour:
     cls = behaviour_class(cfg.behaviour)
     frozen = None
     if cls.requires:
-        frozen = np.zeros((len(cls.requires), cls.frozen_num_params()))
+        names = cls.frozen_names(cfg.options)
+        frozen = np.zeros((len(names), cls.frozen_num_params()))
     return get_behaviour(cfg.behaviour, frozen, cfg.options, cfg.scene)
 
 
@@ -170,9 +171,10 @@ def frozen_genomes(study: Study, arm: Arm, seed: int) -> FrozenGenomes:
             )
         dirs[behaviour] = path
     cfg = arm.config(seed)
+    cls = behaviour_class(cfg.behaviour)
     return FrozenGenomes.from_runs(
-        behaviour_class(cfg.behaviour).requires, dirs, cfg.model,
-        behaviour_class(cfg.behaviour).frozen_num_params(),
+        cls.requires, dirs, cfg.model, cls.frozen_num_params(),
+        cls.frozen_elites(cfg.options),
     )  # fmt: skip
 
 

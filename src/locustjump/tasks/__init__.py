@@ -27,6 +27,7 @@ from locustjump.tasks.getup import GetUp
 from locustjump.tasks.height_only import HEIGHT_ONLY
 from locustjump.tasks.kick import Kick
 from locustjump.tasks.monolithic import Monolithic
+from locustjump.tasks.repertoire import ComposedRepertoire
 from locustjump.tasks.return_legs import ReturnLegs
 
 _REGISTRY: dict[str, type[Behaviour]] = {}
@@ -52,6 +53,8 @@ for _cls in CEILING:
 #: Beyond the paper: successive jumping by Eq. 4 alone on terrains too.
 for _cls in HEIGHT_ONLY:
     register_behaviour(_cls)
+#: Beyond the paper: the composed switcher over a kick repertoire's elites.
+register_behaviour(ComposedRepertoire)
 
 #: The three simple behaviours the composed one switches between.
 SIMPLE_BEHAVIOURS: tuple[str, ...] = SIMPLE
@@ -97,6 +100,7 @@ __all__ = [
     "SIMPLE_BEHAVIOURS",
     "Behaviour",
     "Composed",
+    "ComposedRepertoire",
     "GetUp",
     "Kick",
     "Monolithic",

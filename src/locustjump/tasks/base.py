@@ -193,6 +193,20 @@ class Behaviour:
         return other
 
     @classmethod
+    def frozen_elites(cls, options: Any = None) -> dict[str, int]:
+        """The runs of ``requires`` that give the best elites of their archive
+        (quality diversity) in place of their best genome, and how many, with
+        ``options`` (default: none, each gives its best genome)."""
+        return {}
+
+    @classmethod
+    def frozen_names(cls, options: Any = None) -> tuple[str, ...]:
+        """The run each frozen genome comes from, in order: ``requires``, a run
+        of :meth:`frozen_elites` once per elite it gives."""
+        k = cls.frozen_elites(options)
+        return tuple(n for r in cls.requires for n in [r] * k.get(r, 1))
+
+    @classmethod
     def frozen_num_params(cls) -> int:
         """Genes of each frozen genome (the paper's 9-10-4 networks)."""
         return MLP().num_params

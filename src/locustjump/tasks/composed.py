@@ -112,18 +112,25 @@ class SwitchOptions(CommonOptions):
 class SwitchingController:
     """The switcher over frozen simple networks, batched over episodes.
 
-    ``params`` (n, 143) are switcher genomes; ``simple`` (3, 144) the frozen
+    ``params`` (n, 133) are switcher genomes; ``simple`` (3, 144) the frozen
     networks' genomes in :data:`SIMPLE` order. Memory per episode: the index of
     the selected simple behaviour (recorded as the behaviour timeline).
+    ``networks``: how many frozen networks it switches among, its output
+    layer's size (3; a repertoire's composition, :mod:`.repertoire`, more).
     """
 
     simple: np.ndarray
     every: int = SWITCH_EVERY
-    switcher: MLP = MLP(n_out=len(SIMPLE), output="sigmoid")
     network: MLP = MLP()
+    networks: int = len(SIMPLE)
+
+    @property
+    def switcher(self) -> MLP:
+        """The switcher network: one sigmoid output per frozen network."""
+        return MLP(n_out=self.networks, output="sigmoid")
 
     def __post_init__(self) -> None:
-        shape = (len(SIMPLE), self.network.num_params)
+        shape = (self.networks, self.network.num_params)
         if np.shape(self.simple) != shape:
             raise ValueError(
                 f"simple genomes have shape {np.shape(self.simple)}, expected {shape}"
@@ -274,8 +281,9 @@ class Successive(Behaviour):
             out["min_apex_ratio_to_rules"] = min(ratios) if ratios else None
         if "memory" in res.records:
             sel = res["memory"][0, 1:, 0].astype(int)
+            labels = self.memory_labels or SIMPLE
             out["selected_steps"] = {
-                name: int((sel == i).sum()) for i, name in enumerate(SIMPLE)
+                name: int((sel == i).sum()) for i, name in enumerate(labels)
             }
         return out
 

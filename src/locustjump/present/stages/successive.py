@@ -55,7 +55,7 @@ class SuccessiveReporter(Reporter):
             path,
             curves,
             selected,
-            SIMPLE,
+            beh.memory_labels or SIMPLE,
             title=f"{what}: {beh.name}{vs} ({beh.n_steps} steps)",
             ground=ground_profile(qpos, p, beh.scene),
         )
