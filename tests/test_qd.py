@@ -4,6 +4,9 @@ elite, and bad input."""
 
 import json
 import math
+import os
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -372,3 +375,31 @@ def test_the_rule_based_kick_descriptors_use_the_models_scale():
     b = kick_descriptors(qpos * big.body_length / small.body_length, big.body_length)
     for k in a:
         np.testing.assert_allclose(a[k], b[k])
+
+
+_THREADS = """
+import hashlib, numpy as np
+from locustjump.evo import make_optimizer, CMAMEParams
+p = CMAMEParams(population=50, descriptors=("a", "b"), ranges=((0, 1), (0, 1)),
+                cells=(10, 10))
+o = make_optimizer(p, 144, 0)
+for g in range(40):
+    x = o.ask()
+    o.tell(-np.sum((x - 0.3) ** 2, 1), np.clip(np.abs(x[:, :2]), 0, 1))
+a = o.archive()
+print(hashlib.sha256(a.solution.tobytes() + o.ask().tobytes()).hexdigest())
+"""
+
+
+@pytest.mark.slow
+def test_cma_me_gives_the_same_genomes_on_any_number_of_blas_threads():
+    """CMA-ME's eigendecompositions and products run on BLAS, which may
+    split them among threads: 144 genes, 40 generations, 1 and 4 threads."""
+    out = []
+    for n in ("1", "4"):
+        env = {**os.environ, "OPENBLAS_NUM_THREADS": n, "OMP_NUM_THREADS": n,
+               "MKL_NUM_THREADS": n}  # fmt: skip
+        r = subprocess.run([sys.executable, "-c", _THREADS], env=env,
+                           capture_output=True, text=True, check=True)  # fmt: skip
+        out.append(r.stdout.strip())
+    assert out[0] == out[1]

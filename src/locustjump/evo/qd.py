@@ -21,9 +21,10 @@ saves only by pickling. As :mod:`.cma` does for pycma, the state here is the
 seed and every fitness and descriptor vector told so far: ask/tell is a
 deterministic function of them, so :meth:`QDOptimizer.load_state` rebuilds
 archive, emitters and scheduler and *replays* every generation without
-re-simulating (measured: 0.2 ms a generation for MAP-Elites, 6 ms for CMA-ME
-with 5 emitters, on 144 genes and population 50, once pyribs' Numba code is
-compiled). The state also holds the archive's own arrays (its elites'
+re-simulating (measured on the shared 2-core development machine, 144 genes,
+population 50: 2 ms a generation for MAP-Elites, 11 ms for CMA-ME with 5
+emitters, so 11 s to resume a 1000-generation CMA-ME run; pyribs compiles its
+CMA-ES with Numba in each new process, 10-15 s there). The state also holds the archive's own arrays (its elites'
 genomes, fitness, descriptors, cells and generations, in the order pyribs
 holds them); the replayed archive must equal them bit for bit, else the
 checkpoint is refused (another pyribs could replay otherwise).
