@@ -5,6 +5,7 @@ elite, and bad input."""
 import json
 import math
 import os
+import shutil
 import subprocess
 import sys
 
@@ -260,6 +261,19 @@ def test_a_repertoire_run_resumes_bit_for_bit_on_any_thread_count(qd_run, tmp_pa
     assert_same_run(out, whole)
     with np.load(out / rundir.ARCHIVE) as a, np.load(whole / rundir.ARCHIVE) as b:
         assert a.files == b.files
+        for k in a.files:
+            np.testing.assert_array_equal(a[k], b[k], err_msg=k)
+
+
+def test_a_resumed_run_rewrites_an_archive_a_kill_left_behind(qd_run, tmp_path):
+    """Killed between checkpoint.npz and archive.npz, the archive is a
+    generation behind: resuming writes the checkpoint's."""
+    out, cfg = qd_run
+    run = tmp_path / "run"
+    shutil.copytree(out, run)
+    (run / rundir.ARCHIVE).unlink()
+    train(cfg, run, progress=False, resume=True)  # nothing left to train
+    with np.load(out / rundir.ARCHIVE) as a, np.load(run / rundir.ARCHIVE) as b:
         for k in a.files:
             np.testing.assert_array_equal(a[k], b[k], err_msg=k)
 
