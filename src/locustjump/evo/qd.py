@@ -24,10 +24,11 @@ archive, emitters and scheduler and *replays* every generation without
 re-simulating (measured on the shared 2-core development machine, 144 genes,
 population 50: 2 ms a generation for MAP-Elites, 11 ms for CMA-ME with 5
 emitters, so 11 s to resume a 1000-generation CMA-ME run; pyribs compiles its
-CMA-ES with Numba in each new process, 10-15 s there). The state also holds the archive's own arrays (its elites'
-genomes, fitness, descriptors, cells and generations, in the order pyribs
-holds them); the replayed archive must equal them bit for bit, else the
-checkpoint is refused (another pyribs could replay otherwise).
+CMA-ES with Numba in each new process, 10-15 s there). The state also
+holds the archive's own arrays (its elites' genomes, fitness, descriptors,
+cells and generations, in the order pyribs holds them); the replayed archive
+must equal them bit for bit, else the checkpoint is refused (another pyribs
+could replay otherwise).
 """
 
 from __future__ import annotations

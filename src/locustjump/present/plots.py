@@ -7,6 +7,7 @@ from pathlib import Path
 from typing import cast
 
 import numpy as np
+from matplotlib import colormaps
 from matplotlib.colors import ListedColormap
 from matplotlib.figure import Figure
 from matplotlib.projections.polar import PolarAxes
@@ -152,7 +153,8 @@ def composed_figure(
         tl = axes[1, 0]
         palette = ["tab:red", "tab:green", "tab:blue"]
         if len(names) > len(palette):  # a repertoire's: its elites, then the rest
-            palette = [plt.get_cmap("tab20")(i % 20) for i in range(len(names))]
+            tab20 = colormaps["tab20"]
+            palette = [tab20(i % 20) for i in range(len(names))]
         colors = ListedColormap(palette[: len(names)])
         tl.imshow(
             selected[None, :],
@@ -242,7 +244,7 @@ def archive_heatmap(
         best = np.where(np.isnan(flat), -np.inf, flat).max(axis=2)
         heat = np.where(np.isneginf(best), np.nan, best)
     units = units or {}
-    fig, ax = plt.subplots(figsize=(6.4, 5.0))
+    fig, ax = subplots(figsize=(6.4, 5.0))
     xs = archive.edges(0)
     ys = archive.edges(1) if len(archive.dims) > 1 else np.array([0.0, 1.0])
     mesh = ax.pcolormesh(xs, ys, np.ma.masked_invalid(heat.T), cmap="viridis")
