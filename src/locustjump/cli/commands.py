@@ -192,8 +192,9 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
             f"(recorded {ev.recorded_fitness:.10g}: {status})"
         )
         shown = dict(ev.metrics)
+        recorded = ev.recorded_descriptors or {}
         if ev.descriptors is not None:  # an elite: where it sits, re-simulated
-            shown |= {f"{k} (recorded {ev.recorded_descriptors[k]:.6g})": v
+            shown |= {f"{k} (recorded {recorded[k]:.6g})": v
                       for k, v in ev.descriptors.items()}  # fmt: skip
         width = max(map(len, shown))
         for k, v in shown.items():

@@ -224,7 +224,7 @@ class QDOptimizer(Optimizer):
         return tuple(self.params.descriptors)
 
     def _ask(self) -> np.ndarray:
-        return self._scheduler.ask()
+        return np.asarray(self._scheduler.ask(), dtype=np.float64)
 
     def _tell(self, genomes: np.ndarray, fitness: np.ndarray) -> None:
         raise TypeError(f"the {self.params.kind} optimizer is told descriptors too")

@@ -86,19 +86,22 @@ def evaluate_run(
     ``eval/`` holds derived files only: they are rewritten on every call.
     """
     out = Path(path)
-    pick = {"elite": elite, "cell": cell}
     if eval_dir is None:
-        _, _, best = rundir.load_elite(out, **pick)  # named before the lock
-        ev = rundir.derived_dir(out) / rundir.EVAL
+        _, _, best = rundir.load_elite(out, elite=elite, cell=cell)  # before the lock
+        into = rundir.derived_dir(out) / rundir.EVAL
         if isinstance(best, rundir.Elite):
-            ev = rundir.elite_dir(out, best.cell)
+            into = rundir.elite_dir(out, best.cell)
         if rundir.derived_dir(out) != out:  # a shipped run is not written
-            return evaluate_run(out, backend=backend, eval_dir=ev, scene=scene, **pick)
+            return evaluate_run(
+                out, backend=backend, eval_dir=into, scene=scene, elite=elite, cell=cell
+            )
         with rundir.locked(out):  # the run's own eval/: from reading to writing
-            return evaluate_run(out, backend=backend, eval_dir=ev, scene=scene, **pick)
+            return evaluate_run(
+                out, backend=backend, eval_dir=into, scene=scene, elite=elite, cell=cell
+            )
     if backend is None:
         backend = ThreadBackend()
-    cfg, beh, best = rundir.load_elite(out, **pick)
+    cfg, beh, best = rundir.load_elite(out, elite=elite, cell=cell)
     elsewhere = scene is not None and Terrains(scene) != beh.terrains
     if scene is not None:
         beh = beh.on(scene)
@@ -118,9 +121,7 @@ def evaluate_run(
     if isinstance(best, rundir.Elite):  # where it sits, as re-simulated
         here = beh.describe(res, p, best.names)[0]
         done.descriptors = dict(zip(best.names, map(float, here), strict=True))
-        done.recorded_descriptors = dict(
-            zip(best.names, best.descriptors, strict=True)
-        )
+        done.recorded_descriptors = dict(zip(best.names, best.descriptors, strict=True))
     return done
 
 

@@ -4,7 +4,7 @@ and importing this module leaves the user's Matplotlib backend alone)."""
 from __future__ import annotations
 
 from pathlib import Path
-from typing import cast
+from typing import Any, cast
 
 import numpy as np
 from matplotlib import colormaps
@@ -151,7 +151,7 @@ def composed_figure(
         ax.set_title(title)
     if selected is not None:
         tl = axes[1, 0]
-        palette = ["tab:red", "tab:green", "tab:blue"]
+        palette: list[Any] = ["tab:red", "tab:green", "tab:blue"]
         if len(names) > len(palette):  # a repertoire's: its elites, then the rest
             tab20 = colormaps["tab20"]
             palette = [tab20(i % 20) for i in range(len(names))]

@@ -13,6 +13,7 @@ import numpy as np
 from locustjump.errors import UserError
 from locustjump.evo import Archive, QDParams
 from locustjump.rundir.arrays import genomes, plain, scalar
+from locustjump.rundir.config import TrainConfig
 from locustjump.rundir.files import save_npz
 from locustjump.rundir.layout import ARCHIVE, CONFIG, FORMAT
 from locustjump.rundir.migrations import npz_format
@@ -24,7 +25,7 @@ _KEYS = (
 )  # fmt: skip
 
 
-def write_archive(path: Path, cfg, archive: Archive) -> None:
+def write_archive(path: Path, cfg: TrainConfig, archive: Archive) -> None:
     """The elites of run ``cfg``'s archive, in cell order."""
     a = archive.in_cell_order()
     save_npz(
@@ -44,12 +45,14 @@ def write_archive(path: Path, cfg, archive: Archive) -> None:
     )
 
 
-def has_archive(cfg) -> bool:
+def has_archive(cfg: TrainConfig) -> bool:
     """Whether run ``cfg`` keeps an archive (its optimizer is a QD one)."""
     return isinstance(cfg.optimizer, QDParams)
 
 
-def read_archive(out: str | os.PathLike, cfg, num_params: int) -> Archive:
+def read_archive(
+    out: str | os.PathLike[str], cfg: TrainConfig, num_params: int
+) -> Archive:
     """The archive of the run in directory ``out`` whose configuration is
     ``cfg`` (``UserError`` naming the file: missing, of another run or grid,
     an array not as written)."""

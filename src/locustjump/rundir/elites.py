@@ -11,8 +11,10 @@ import numpy as np
 
 from locustjump.errors import UserError
 from locustjump.rundir.archive import has_archive, read_archive
+from locustjump.rundir.config import TrainConfig
 from locustjump.rundir.layout import ARCHIVE
 from locustjump.rundir.run import BestGenome, load_run
+from locustjump.tasks.base import Behaviour
 
 
 @dataclass(frozen=True)
@@ -33,11 +35,11 @@ class Elite(BestGenome):
 
 
 def load_elite(
-    path: str | os.PathLike,
+    path: str | os.PathLike[str],
     *,
     elite: int | None = None,
     cell: tuple[int, ...] | None = None,
-):
+) -> tuple[TrainConfig, Behaviour, BestGenome]:
     """:func:`~locustjump.rundir.run.load_run`'s ``(TrainConfig, Behaviour,
     genome)``, the genome the ``elite``-th best of the run's archive or the
     elite in grid cell ``cell`` (an :class:`Elite`); neither given: the best
@@ -58,7 +60,11 @@ def load_elite(
         )
     archive = read_archive(path, cfg, beh.controller.num_params)
     try:
-        i = archive.at_rank(elite) if cell is None else archive.at_cell(tuple(cell))
+        if cell is not None:
+            i = archive.at_cell(tuple(cell))
+        else:
+            assert elite is not None  # one of the two, by the checks above
+            i = archive.at_rank(elite)
     except IndexError as e:
         raise UserError(f"{option}: {e} ({Path(path) / ARCHIVE})") from None
     rank = int(np.flatnonzero(archive.ranked() == i)[0])

@@ -160,7 +160,8 @@ class Behaviour:
     eval_record: ClassVar[tuple[str, ...]] = ("qpos", "obs", "ctrl")
     worst_fitness: ClassVar[float] = 0.0
     requires: ClassVar[tuple[str, ...]] = ()
-    memory_labels: ClassVar[tuple[str, ...] | None] = None
+    #: (an instance may set its own: a repertoire's composition names its elites)
+    memory_labels: tuple[str, ...] | None = None
     gym_id: ClassVar[str | None] = None
     Options: ClassVar[type] = CommonOptions
     descriptors: ClassVar[tuple[Descriptor, ...]] = ()

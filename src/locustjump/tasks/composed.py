@@ -296,7 +296,7 @@ class Composed(Successive):
 
     name = "composed"
     requires = SIMPLE
-    memory_labels = SIMPLE
+    memory_labels: tuple[str, ...] | None = SIMPLE
     Options = SwitchOptions
 
     @property

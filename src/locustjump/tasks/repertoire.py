@@ -80,7 +80,7 @@ class ComposedRepertoire(Composed):
 
     @property
     def controller(self) -> Controller:
-        n = len(self.memory_labels)
+        n = self.options.elites + len(SIMPLE) - 1
         if self.frozen is None or len(self.frozen) != n:
             raise ValueError(
                 f"the composition over a repertoire needs {n} frozen genomes: "
