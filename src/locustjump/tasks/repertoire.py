@@ -30,6 +30,7 @@ import numpy as np
 
 from locustjump.sim.controller import Controller
 from locustjump.sim.scene import Terrains
+from locustjump.tasks.base import option
 from locustjump.tasks.composed import (
     SIMPLE,
     Composed,
@@ -48,7 +49,12 @@ class RepertoireOptions(SwitchOptions):
     """The settings of the composition over a repertoire (``[options]``)."""
 
     #: the kick archive's best elites the switcher chooses among
-    elites: int = DEFAULT_ELITES
+    elites: int = option(
+        DEFAULT_ELITES,
+        "the kick repertoire's best elites the switcher "
+        f"chooses among, with getup and return-legs (default {DEFAULT_ELITES})",
+        "K",
+    )
 
     def __post_init__(self) -> None:
         super().__post_init__()
