@@ -235,9 +235,10 @@ def test_switch_every_option_and_kick_variants(simple_runs, tmp_path, capsys, pa
         main(["train", "kick", "--switch-every", "8", "--out", str(tmp_path / "k")])
         == 2
     )
-    assert "only the composed and composed-height behaviours take it, not" in (
-        capsys.readouterr().err
-    )
+    assert (
+        "only the composed, composed-height and composed-repertoire behaviours "
+        "take it, not"
+    ) in (capsys.readouterr().err)
     assert not (tmp_path / "k").exists()
     # the shipped composed runs (no [options]) read the paper's 120, same hash
     for r in ("quick-seed0", "paper-seed0"):

@@ -181,7 +181,8 @@ def takers(name: str) -> str:
     who = behaviour_options().get(name, (None, ()))[1]
     if len(who) == 1:
         return f"the {who[0]} behaviour takes it"
-    return f"the {' and '.join(who) or 'no'} behaviours take it"
+    listed = " and ".join([", ".join(who[:-1]), who[-1]]) if who else "no"
+    return f"the {listed} behaviours take it"
 
 
 def add_behaviour_options(p: argparse.ArgumentParser) -> None:
