@@ -222,7 +222,7 @@ def _run_section(
             _figure(
                 archive,
                 "the repertoire: each cell's elite's fitness over the behaviour "
-                "descriptors (locustjump evaluate/render --cell I,J plays one)",
+                "descriptors (evaluate and render play the elite of one cell)",
             )
         )
     if metrics is not None:

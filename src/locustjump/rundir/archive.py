@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from locustjump.errors import UserError
+from locustjump.errors import UserError, setting_ref
 from locustjump.evo import Archive, QDParams
 from locustjump.rundir.arrays import genomes, plain, scalar
 from locustjump.rundir.config import TrainConfig
@@ -60,7 +60,7 @@ def read_archive(
     if not has_archive(cfg):
         raise UserError(
             f"{out}: a {cfg.optimizer.kind} run keeps no archive of elites "
-            "(train with --optimizer map-elites or cma-me)"
+            f"(train with {setting_ref('optimizer')} map-elites or cma-me)"
         )
     opt = cfg.optimizer
     d, cells = len(opt.descriptors), int(np.prod(opt.cells))

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-from locustjump.errors import UserError
+from locustjump.errors import UserError, setting_ref
 from locustjump.rundir.archive import has_archive, read_archive
 from locustjump.rundir.config import TrainConfig
 from locustjump.rundir.layout import ARCHIVE
@@ -49,9 +49,13 @@ def load_elite(
     if elite is None and cell is None:
         return cfg, beh, best
     if elite is not None and cell is not None:
-        raise UserError("--elite and --cell: give one of them")
+        raise UserError(
+            f"{setting_ref('elite')} and {setting_ref('cell')}: give one of them"
+        )
     option = (
-        f"--elite {elite}" if cell is None else f"--cell {','.join(map(str, cell))}"
+        f"{setting_ref('elite')} {elite}"
+        if cell is None
+        else f"{setting_ref('cell')} {','.join(map(str, cell))}"
     )
     if not has_archive(cfg):
         raise UserError(

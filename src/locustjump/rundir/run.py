@@ -246,14 +246,16 @@ def _best_elites(
     keeps none, or fewer)."""
     if not has_archive(cfg):
         raise UserError(
-            f"--{name} {d}: a {cfg.optimizer.kind} run; the composition takes "
-            f"{k} elites of a quality-diversity run's archive (map-elites, cma-me)"
+            f"{setting_ref(frozen_setting(name))} {d}: a {cfg.optimizer.kind} "
+            f"run; the composition takes {k} elites of a quality-diversity run's "
+            "archive (map-elites, cma-me)"
         )
     archive = read_archive(d, cfg, beh.controller.num_params)
     if len(archive) < k:
         raise UserError(
-            f"--{name} {d}: its archive holds {len(archive)} elites; the "
-            f"composition takes {k} ([options] elites)"
+            f"{setting_ref(frozen_setting(name))} {d}: its archive holds "
+            f"{len(archive)} elites; the composition takes {k} "
+            f"({setting_ref('option_elites')})"
         )
     return [archive.solution[i] for i in archive.ranked()[:k]]
 
