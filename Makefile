@@ -2,11 +2,13 @@
 #   make demo   create .venv, install what the demo needs (extra video), run
 #               the main job on a small budget
 #   make test   create .venv, install with test extras, run the whole suite
+#   make docs   build the documentation site into site/ (strict: a broken
+#               link or API reference fails)
 PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 
-.PHONY: demo test typecheck lint bench clean
+.PHONY: demo test typecheck docs lint bench clean
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -21,16 +23,20 @@ $(VENV)/.test-installed: pyproject.toml | $(BIN)/python
 	$(BIN)/python -m pip install --quiet -e '.[test]'
 	touch $@
 
+$(VENV)/.docs-installed: pyproject.toml | $(BIN)/python
+	$(BIN)/python -m pip install --quiet -e '.[docs]'
+	touch $@
+
 demo: $(VENV)/.demo-installed
 	mkdir -p demo
 	$(BIN)/locustjump model --out demo/locust.xml --force
 	# the paper's stages on the small demo budget, without the monolithic
 	# baseline: what results/demo-seed0 ships. On an idle 2-core VM 6.6 min
-	# (about 2.7 of them rendering the videos; README, The demo). A second
+	# (about 2.7 of them rendering the videos; docs/results.md, The demo). A second
 	# `make demo` continues an interrupted reproduction
 	$(BIN)/locustjump reproduce --budget demo --seed 0 --no-monolithic --out demo/reproduce
 
-test: $(VENV)/.test-installed typecheck
+test: $(VENV)/.test-installed $(VENV)/.docs-installed typecheck  # test_docs.py: the site, strict
 	$(BIN)/ruff check src tests benchmarks scripts
 	$(BIN)/lint-imports --no-cache
 	$(BIN)/python -m pytest -q -rs  # -rs: say why a test was skipped
@@ -44,5 +50,8 @@ bench: $(VENV)/.demo-installed
 	$(BIN)/python benchmarks/generation.py --behaviour kick
 	$(BIN)/python benchmarks/generation.py --behaviour getup --generations 4 --warmup 1
 
+docs: $(VENV)/.docs-installed
+	NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict  # into site/
+
 clean:
-	rm -rf $(VENV) demo
+	rm -rf $(VENV) demo site

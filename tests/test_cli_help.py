@@ -1,6 +1,7 @@
 """``--help`` explains everything: every subcommand has a description, every
 argument a help text, every option with a default says it, every behaviour of
-``train`` is explained; the README's synopsis names every option."""
+``train`` is explained; the synopsis of docs/guide/commands.md names every
+option."""
 
 import argparse
 import re
@@ -9,7 +10,7 @@ from pathlib import Path
 from locustjump.cli.parser import build_parser
 from locustjump.tasks import behaviour_names
 
-README = Path(__file__).resolve().parents[1] / "README.md"
+COMMANDS = Path(__file__).resolve().parents[1] / "docs" / "guide" / "commands.md"
 
 
 def _subparsers(parser: argparse.ArgumentParser):
@@ -48,9 +49,9 @@ def test_every_behaviour_of_train_is_explained():
         assert f"\n  {name}: " in train.epilog
 
 
-def test_the_readme_synopsis_names_every_option():
-    text = README.read_text()
-    synopsis = text.split("## Command line", 1)[1].split("## ", 1)[0]
+def test_the_synopsis_names_every_option():
+    text = COMMANDS.read_text()
+    synopsis = text.split("## Synopsis", 1)[1].split("## ", 1)[0]
     # options many commands share, described once below the synopsis
     shared = {"--backend", "--threads", "--address", "--actors", "--help",
               "--scene", "--terrain-seed", "--terrains", "--terrain-seeds"}  # fmt: skip
@@ -62,10 +63,10 @@ def test_the_readme_synopsis_names_every_option():
         if name == "train":  # train's lines cover every behaviour
             line = re.search(r"^locustjump train \{kick.*?(?=^locustjump [a-su-z])",
                              synopsis, re.M | re.S)  # fmt: skip
-        assert line, f"{name} missing from the README synopsis"
+        assert line, f"{name} missing from the synopsis"
         for action in _arguments(parser):
             for opt in action.option_strings:
                 if opt.startswith("--") and opt not in shared:
                     if opt not in line.group(0):
                         missing.append(f"{name} {opt}")
-    assert not missing, "not in the README synopsis: " + ", ".join(missing)
+    assert not missing, "not in the synopsis: " + ", ".join(missing)

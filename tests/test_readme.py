@@ -1,143 +1,198 @@
-"""The README is executable: its Python blocks (the API sections) run as
-written, its tour's command runs, and every `locustjump` command line in its
-shell recipes is one the command line accepts.
+"""The README and the documentation are executable: every command a page
+shows runs as written, in a fresh clone after ``make demo``.
 
-The blocks run in a fresh directory laid out as a fresh clone after
-``make demo``: ``results/`` (the shipped runs, read only) and
-``demo/reproduce/`` (what ``make demo`` makes: the shipped
-``results/demo-seed0``). Hour-long recipes (paper-budget training, a Ray
-cluster) are checked by parsing their command lines, not run.
+Each page's fenced ``sh`` and ``python`` blocks run one after another (a
+later block may use what an earlier one made) in a fresh directory laid out
+as a fresh clone after ``make demo``: the repository's files, a copy of
+``results/`` and ``docs/``, ``demo/reproduce/`` (what ``make demo`` makes:
+the shipped ``results/demo-seed0``) and a ``.venv/bin`` whose
+``locustjump`` and ``python`` are this interpreter's, on ``PATH`` as after
+``. .venv/bin/activate``. Blocks marked ``slow`` (minutes) run under
+``pytest -m slow``; blocks marked ``parse`` (hours of training, a cluster,
+installing into the environment or the system) are parsed, like every
+``locustjump`` command of the prose: each must be one the command line
+accepts. How a block is marked: ``tests/docpages.py``.
 """
 
+from __future__ import annotations
+
+import contextlib
+import io
 import os
 import re
-import shlex
 import shutil
+import stat
 import subprocess
 import sys
 from pathlib import Path
 
 import pytest
 
-import locustjump
+from docpages import (
+    PAGES,
+    ROOT,
+    Block,
+    all_blocks,
+    blocks,
+    command_lines,
+    inline_commands,
+    out_dirs,
+)
 from locustjump.cli.parser import build_parser
 
-SRC = Path(locustjump.__file__).resolve().parents[1]
-ROOT = SRC.parent
-README = ROOT / "README.md"
-#: the sections whose Python blocks run (with their subsections)
-API_SECTIONS = ("Python API",)
+#: the repository's files a fresh clone has, read only here
+LINKED = ("src", "scripts", "benchmarks", "studies", "tests", "pyproject.toml",
+          "Makefile", "mkdocs.yml", "README.md", "CHANGELOG.md")  # fmt: skip
+#: what the pages' commands may write into (regenerating a shipped table)
+COPIED = ("results", "docs")
+TIMEOUT = 1800  # (Seconds) one block
 
 
-def _blocks(language: str) -> list[tuple[str, str]]:
-    """(section heading, code) of every fenced block in ``language``."""
-    found, heading, section = [], "", ""
-    lines = README.read_text().splitlines()
-    i = 0
-    while i < len(lines):
-        line = lines[i]
-        if line.startswith("## "):
-            section = heading = line[3:]
-        elif line.startswith("### "):
-            heading = f"{section} / {line[4:]}"
-        elif line.startswith("```"):
-            lang = line[3:].strip()
-            end = lines.index("```", i + 1)
-            if lang == language:
-                found.append((heading, "\n".join(lines[i + 1 : end])))
-            i = end
-        i += 1
-    return found
+def _runnable(page: Path, slow: bool) -> list[Block]:
+    modes = ("run", "slow") if slow else ("run",)
+    return [b for b in blocks(page)
+            if b.lang in ("sh", "python") and b.mode in modes]  # fmt: skip
 
 
-@pytest.fixture
-def fresh_clone(tmp_path):
-    """A working directory as a fresh clone looks after ``make demo``."""
+def _pages(slow: bool) -> list:
+    marks = [pytest.mark.slow] if slow else []
+    return [
+        pytest.param(p, id=str(p.relative_to(ROOT)), marks=marks)
+        for p in PAGES
+        if _runnable(p, slow)
+        and (not slow or _runnable(p, True) != _runnable(p, False))
+    ]
+
+
+def _fresh_clone(tmp: Path) -> Path:
     demo = ROOT / "results" / "demo-seed0"
     if not (demo / "reproduce.toml").is_file():
         pytest.skip(f"{demo} not present")
-    (tmp_path / "results").symlink_to(ROOT / "results", target_is_directory=True)
-    shutil.copytree(demo, tmp_path / "demo" / "reproduce")
-    return tmp_path
+    clone = tmp / "clone"
+    clone.mkdir()
+    for name in LINKED:
+        if (ROOT / name).exists():
+            (clone / name).symlink_to(ROOT / name)
+    for name in COPIED:
+        shutil.copytree(ROOT / name, clone / name, symlinks=True)
+    shutil.copytree(demo, clone / "demo" / "reproduce")
+    venv = clone / ".venv" / "bin"
+    venv.mkdir(parents=True)
+    scripts = {
+        "python": f'#!/bin/sh\nexec "{sys.executable}" "$@"\n',
+        "locustjump": f'#!/bin/sh\nexec "{sys.executable}" -m locustjump.cli "$@"\n',
+        "activate": f'PATH="{venv}:$PATH"; export PATH\n',
+    }
+    for name, text in scripts.items():
+        (venv / name).write_text(text)
+        (venv / name).chmod(stat.S_IRWXU)
+    return clone
 
 
-def _python(code: str, cwd: Path, timeout: float = 600) -> subprocess.CompletedProcess:
-    env = {**os.environ, "PYTHONPATH": str(SRC)}
-    return subprocess.run([sys.executable, "-c", code], cwd=cwd, env=env,
-                          capture_output=True, text=True, timeout=timeout)  # fmt: skip
+def _requirements(runnable: list[Block]) -> None:
+    """Skip, with the reason, where a page needs what this machine lacks."""
+    text = "\n".join(b.code for b in runnable)
+    if "render" in text:
+        from locustjump.present.render import RenderUnavailable, make_renderer
+        from locustjump.sim import model as lm
+
+        try:
+            make_renderer(lm.load_model(lm.LocustParams()), 32, 24).close()
+        except RenderUnavailable as e:
+            pytest.skip(f"no offscreen rendering here: {e}")
+    if "gymnasium" in text:
+        pytest.importorskip("gymnasium", reason="extra locustjump[gym] not installed")
 
 
-def test_the_python_blocks_run_as_written(fresh_clone):
-    """Every Python block of the API sections, each in a fresh namespace, one
-    after another (a later block may use the runs an earlier one trained)."""
-    from locustjump.present.render import RenderUnavailable, make_renderer
-    from locustjump.sim import model as lm
-
-    try:  # the API block renders a video, the Gymnasium one a frame
-        make_renderer(lm.load_model(lm.LocustParams()), 32, 24).close()
-    except RenderUnavailable as e:
-        pytest.skip(f"no offscreen rendering here: {e}")
-    pytest.importorskip("gymnasium", reason="extra locustjump[gym] not installed")
-    blocks = [(h, c) for h, c in _blocks("python") if h.startswith(API_SECTIONS)]
-    assert len(blocks) >= 3, [h for h, _ in blocks]
-    runner = "\n".join(
-        f"print('--- {heading}', flush=True)\nexec(compile({code!r}, "
-        f"{'README: ' + heading!r}, 'exec'), {{'__name__': '__main__'}})"
-        for heading, code in blocks
-    )
-    r = _python(runner, fresh_clone)
-    assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-3000:]
-    assert (fresh_clone / "runs" / "kick" / "report.html").is_file()
-    assert (fresh_clone / "runs" / "composed" / "best.npz").is_file()
-    assert (fresh_clone / "kick.gif").is_file() and (fresh_clone / "kick.png").is_file()
-    assert (fresh_clone / "runs" / "kick-hc" / "best.npz").is_file()
+def _run(block: Block, clone: Path) -> None:
+    path = f"{clone / '.venv' / 'bin'}{os.pathsep}{os.environ['PATH']}"
+    env = {**os.environ, "PYTHONPATH": str(ROOT / "src"), "PATH": path}
+    if block.lang == "sh":
+        argv = ["bash", "-e", "-o", "pipefail", "-c", block.code]
+    else:
+        code = f"exec(compile({block.code!r}, {block.where!r}, 'exec'), {{}})"
+        argv = [sys.executable, "-c", code]
+    r = subprocess.run(argv, cwd=clone, env=env, capture_output=True, text=True,
+                       timeout=TIMEOUT)  # fmt: skip
+    assert r.returncode == 0, f"{block.where}\n{r.stdout[-3000:]}\n{r.stderr[-3000:]}"
+    if block.lang == "sh":
+        for argv in command_lines(block.code):
+            for out in out_dirs(argv):
+                assert (clone / out).exists(), f"{block.where}: made no {out}"
 
 
-def test_the_tour_command_runs(fresh_clone):
-    """ "To see results at once": the replay of the shipped reproduction."""
-    text = README.read_text()
-    (command,) = re.findall(r"`\.venv/bin/(locustjump replay[^`]*)`", text)
-    argv = shlex.split(command.replace("\n", " "))
-    code = f"from locustjump.cli import main; raise SystemExit(main({argv[1:]!r}))"
-    r = _python(code, fresh_clone)
-    assert r.returncode == 0, r.stdout[-2000:] + r.stderr[-2000:]
-    assert (fresh_clone / "replay" / "composed" / "composed.png").is_file()
+def _run_page(page: Path, slow: bool, tmp_path: Path) -> None:
+    runnable = _runnable(page, slow)
+    _requirements(runnable)
+    clone = _fresh_clone(tmp_path)
+    for block in runnable:
+        _run(block, clone)
 
 
-def _command_lines(code: str):
-    """Each `locustjump ...` command of a shell block, continuation lines
-    joined, comments and a for loop's variable resolved."""
-    code = re.sub(r"\\\n\s*", " ", code)
-    for line in code.splitlines():
-        line = re.sub(r"\s+#.*$", "", line).replace("$s", "0")
-        for part in re.split(r";\s*(?:do|done)?\s*", line):
-            part = part.strip()
-            if part.startswith("locustjump "):
-                yield shlex.split(part)[1:]
+@pytest.mark.parametrize("page", _pages(slow=False))
+def test_every_page_runs_as_written(page, tmp_path):
+    """Each page's blocks not marked ``slow`` or ``parse``, in order."""
+    _run_page(page, False, tmp_path)
 
 
-def test_every_shell_command_line_is_accepted():
-    """The shell recipes outside the synopsis (hours of training, a cluster):
-    every `locustjump` line parses, with options that exist."""
+@pytest.mark.parametrize("page", _pages(slow=True))
+def test_every_page_runs_as_written_slow(page, tmp_path):
+    """Each page with ``slow`` blocks: all its runnable blocks, in order."""
+    _run_page(page, True, tmp_path)
+
+
+def test_the_readme_and_the_guide_have_runnable_blocks():
+    """What the fast suite runs, so that the marks cannot hollow it out: the
+    README's tour, the getting-started page and the Python API."""
+    for name in ("README.md", "docs/getting-started.md", "docs/guide/python-api.md"):
+        assert _runnable(ROOT / name, False), name
+    tour = "\n".join(b.code for b in _runnable(ROOT / "README.md", False))
+    for command in ("locustjump replay", "locustjump train", "locustjump report"):
+        assert command in tour
+
+
+def test_every_mark_says_why():
+    for lang in ("sh", "python"):
+        for b in all_blocks(lang):
+            if b.mode != "run":
+                assert b.reason, f"{b.where}: '{b.mode}' without a reason"
+
+
+def _commands() -> list[tuple[str, list[str]]]:
+    """(where, argv) of every ``locustjump`` command of the blocks and the prose."""
+    found = [(b.where, a) for b in all_blocks("sh") for a in command_lines(b.code)]
+    for page in PAGES:
+        found += [(str(page.relative_to(ROOT)), a) for a in inline_commands(page)]
+    return found
+
+
+def test_every_command_line_is_accepted():
+    """Every ``locustjump`` line of every block and every concrete command
+    of the prose parses, with options that exist; the scripts they name
+    exist."""
     parser = build_parser()
     checked = 0
-    for heading, code in _blocks("sh"):
-        if heading.startswith(("Command line", "The two commands")):
-            continue  # the synopsis (tests/test_cli_help.py) and make/apt-get
-        for argv in _command_lines(code):
-            try:
+    for where, argv in _commands():
+        try:
+            with contextlib.redirect_stdout(io.StringIO()):
                 parser.parse_args(argv)
-            except SystemExit:
-                pytest.fail(f"README ({heading}): locustjump {' '.join(argv)}")
-            checked += 1
-    assert checked >= 5
-    for script in re.findall(r"python (scripts/\S+\.py)", README.read_text()):
-        assert (ROOT / script).is_file(), script
+        except SystemExit as e:  # --help and --version exit 0
+            assert e.code == 0, f"{where}: locustjump {' '.join(argv)}"
+        checked += 1
+    assert checked >= 50, checked
+    for page in PAGES:
+        text = page.read_text()
+        for script in set(re.findall(r"\b((?:scripts|benchmarks)/\w+\.py)", text)):
+            assert (ROOT / script).is_file(), f"{page.relative_to(ROOT)}: {script}"
 
 
-def test_the_readme_replays_write_distinct_directories():
-    """Each `locustjump replay ... --out DIR` of the README writes its own
-    DIR: run one after another as written, none finds the last one's."""
-    text = (Path(__file__).resolve().parents[1] / "README.md").read_text()
-    outs = re.findall(r"locustjump replay \S+ --out ([^\s`]+)", text)
-    assert len(outs) >= 3 and len(set(outs)) == len(outs), outs
+def test_every_output_directory_is_distinct():
+    """Run one after another as written, no command finds the directory an
+    earlier one made: every ``--out`` of the README and the docs is its own
+    (continuing or overwriting, ``--resume`` and ``--force``, aside)."""
+    seen: dict[str, str] = {}
+    for where, argv in _commands():
+        for out in out_dirs(argv):
+            assert out not in seen, f"--out {out}: {seen.get(out)} and {where}"
+            seen[out] = where
+    assert len(seen) >= 10, seen

@@ -125,7 +125,9 @@ class LocustEnv(gym.Env):
       scene: where the episodes run (``locustjump.sim.scene.Debris(seed=3)``:
         one rubble field); default the behaviour's own, the flat floor for a
         name. Its start states are settled there.
-      width, height, camera: of the rendered frames (camera ``track``/``side``).
+      width: of the rendered frames (pixels).
+      height: of the rendered frames (pixels).
+      camera: of the rendered frames: ``track`` or ``side``.
     """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": round(1 / CONTROL_DT)}
