@@ -70,36 +70,57 @@ def _cells(line: str, cols: list[tuple[int, int]]) -> list[str]:
     return [line[starts[i] : starts[i + 1]].strip() for i in range(len(cols))]
 
 
+def _rows(lines: list[str], cols: list[tuple[int, int]]) -> list[list[str]]:
+    """The rows between two rules; a line whose first cell is blank
+    continues the row above it."""
+    rows: list[list[str]] = []
+    for line in lines:
+        if not line.strip():
+            continue
+        cells = _cells(line, cols)
+        if rows and not cells[0]:
+            rows[-1] = [
+                f"{a} {b}".strip() for a, b in zip(rows[-1], cells, strict=True)
+            ]
+        else:
+            rows.append(cells)
+    return rows
+
+
+def _pipe(indent: str, row: list[str]) -> str:
+    return indent + "| " + " | ".join(c.replace("|", "\\|") for c in row) + " |"
+
+
 def rst_tables_to_markdown(text: str) -> str:
-    """Every simple reStructuredText table (a rule, a header row, a rule,
-    rows, a closing rule) of ``text`` as a Markdown pipe table."""
+    """Every simple reStructuredText table of ``text`` in Markdown: a table
+    with a header (a rule, the header, a rule, rows, a rule) as a pipe table,
+    one without (a rule, rows, a rule) as a list of its rows."""
     lines, out, i = text.split("\n"), [], 0
     while i < len(lines):
         m = _RULE.match(lines[i])
-        rules = [j for j in range(i, min(len(lines), i + 200)) if _RULE.match(lines[j])]
-        if m and len(rules) >= 3 and lines[rules[1]] == lines[i]:
-            indent, cols = m.group(1), _columns(lines[i])
-            header = _cells(lines[i + 1], cols)
-            end = rules[2]
-            body = [
-                _cells(row, cols) for row in lines[rules[1] + 1 : end] if row.strip()
-            ]
-            out.append(indent + "| " + " | ".join(header) + " |")
-            out.append(indent + "|" + " --- |" * len(cols))
-            for row in body:
-                cells = (c.replace("|", "\\|") for c in row)
-                out.append(indent + "| " + " | ".join(cells) + " |")
-            i = end + 1
+        rules = [j for j in range(i + 1, len(lines)) if _RULE.match(lines[j])]
+        if not m or not rules:
+            out.append(lines[i])
+            i += 1
             continue
-        out.append(lines[i])
-        i += 1
+        indent, cols = m.group(1), _columns(lines[i])
+        if rules[0] == i + 2 and len(rules) >= 2:  # a header row
+            end = rules[1]
+            out.append(_pipe(indent, _cells(lines[i + 1], cols)))
+            out.append(indent + "|" + " --- |" * len(cols))
+            out += [_pipe(indent, r) for r in _rows(lines[i + 3 : end], cols)]
+        else:
+            end = rules[0]
+            for first, *rest in _rows(lines[i + 1 : end], cols):
+                out.append(f"{indent}- {first}: {' '.join(rest)}")
+        i = end + 1
     return "\n".join(out)
 
 
 def rst_to_markdown(text: str) -> str:
     """Sphinx roles as code spans, simple tables as pipe tables, ``::`` as ``:``."""
+    text = rst_tables_to_markdown(text)  # first: a role's width is its column's
     text = _ROLE.sub(_role, text)
-    text = rst_tables_to_markdown(text)
     text = re.sub(r"(?m)^ *::\n", "\n", text)  # a lone '::' line
     return re.sub(r"(?<=\S)::(?=\n\n)", ":", text)
 

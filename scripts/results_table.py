@@ -1,4 +1,4 @@
-"""Markdown table of trained runs, as quoted in the README.
+"""Markdown table of trained runs, as quoted in docs/results.md.
 
 Re-simulates each run's best genome (``locustjump evaluate``); for getup runs
 also runs the 180-state sweep (``locustjump sweep-getup``).

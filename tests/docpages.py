@@ -6,10 +6,13 @@ its fence says otherwise, with the reason::
 
     <!-- commands: slow (three trainings, about 10 minutes) -->
     <!-- commands: parse (hours: the paper's budget) -->
+    <!-- commands: slow, prints the table below (three trainings) -->
 
 ``slow`` blocks run under ``pytest -m slow``; ``parse`` blocks (hours of
 training, a cluster, installing into the environment or the system) are only
-parsed: every ``locustjump`` line must be one the command line accepts.
+parsed: every ``locustjump`` line must be one the command line accepts. A
+block that ``prints the table below`` must print every row of the Markdown
+table that follows it: the page's numbers are that command's output.
 """
 
 from __future__ import annotations
@@ -27,7 +30,9 @@ DOCS = ROOT / "docs"
 #: every page a user reads: the README first, then the documentation
 PAGES = (README, *sorted(DOCS.rglob("*.md")))
 MODES = ("run", "slow", "parse")
-_MARK = re.compile(r"^<!-- commands: (run|slow|parse)\b(?: \((.+)\))? -->$")
+_MARK = re.compile(
+    r"^<!-- commands: (run|slow|parse)(, prints the table below)?(?: \((.+)\))? -->$"
+)
 
 
 @dataclass(frozen=True)
@@ -39,6 +44,8 @@ class Block:
     code: str
     mode: str = "run"
     reason: str = ""
+    #: the rows of the table the block prints (``prints the table below``)
+    table: tuple[str, ...] = ()
 
     @property
     def where(self) -> str:
@@ -57,13 +64,25 @@ def blocks(page: Path) -> list[Block]:
         elif line.startswith("```"):
             end = lines.index("```", i + 1)
             mark = _MARK.match(lines[i - 1]) if i else None
-            mode, reason = mark.groups() if mark else ("run", "")
+            mode, prints, reason = mark.groups() if mark else ("run", None, "")
             code = "\n".join(lines[i + 1 : end])
+            table = _table_after(lines, end + 1) if prints else ()
             found.append(Block(page, i + 1, heading, line[3:].strip(), code, mode,
-                               reason or ""))  # fmt: skip
+                               reason or "", table))  # fmt: skip
             i = end
         i += 1
     return found
+
+
+def _table_after(lines: list[str], i: int) -> tuple[str, ...]:
+    """The rows (header and separator aside) of the first table from line i."""
+    while i < len(lines) and not lines[i].startswith("|"):
+        i += 1
+    rows = []
+    while i < len(lines) and lines[i].startswith("|"):
+        rows.append(lines[i])
+        i += 1
+    return tuple(rows[2:])
 
 
 def all_blocks(lang: str) -> list[Block]:

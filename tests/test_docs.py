@@ -115,7 +115,8 @@ def test_the_readmes_links_point_at_what_exists():
 
 def test_the_api_reference_reads_the_docstrings_as_markdown():
     """scripts/docs_site.py: a docstring's Sphinx roles become code spans, a
-    simple table a pipe table, '::' before a literal block a colon."""
+    simple table a pipe table (without a header: a list), '::' before a
+    literal block a colon."""
     hook = _site_hook()
     doc = """Train :func:`~locustjump.runs.trainer.train` into :mod:`lj.rundir`::
 
@@ -132,6 +133,17 @@ Done."""
     assert "| index | what | unit |" in md
     assert "| 0 | hip | rad |" in md and "| 4 | touch | - |" in md
     assert "=====" not in md and "rundir`:\n" in md
+    hooks = """Hooks:
+
+    =========  =====================
+    :meth:`a`  the first, which runs
+               over two lines
+    ``b``      the second
+    =========  =====================
+"""
+    md = hook.rst_to_markdown(hooks)
+    assert "- `a`: the first, which runs over two lines\n" in md
+    assert "- ``b``: the second" in md and "=====" not in md
 
 
 def test_the_site_copies_the_shipped_figures_it_links():
@@ -157,3 +169,20 @@ def test_the_changelog_is_the_site_page():
     assert (DOCS / "changelog.md").read_text().strip() == '--8<-- "CHANGELOG.md"'
     text = (ROOT / "CHANGELOG.md").read_text()
     assert f"been {locustjump.__version__}" in text
+
+
+def test_the_readmes_claims_are_the_shipped_runs():
+    """Every number of the README's 'what reproduces' table ('here') is one
+    of the shipped files it cites: the paper-budget reproduction's
+    results.md and the flat-composition study's table."""
+    shipped = (ROOT / "results" / "paper-seed0" / "results.md").read_text()
+    shipped += (
+        ROOT / "results" / "studies" / "flat-composition" / "table.md"
+    ).read_text()
+    numbers = set(re.findall(r"\d+(?:\.\d+)?", shipped))
+    section = README.read_text().split("## What reproduces", 1)[1].split("\n## ")[0]
+    rows = [r.split("|") for r in section.splitlines() if r.startswith("| ")]
+    assert len(rows) >= 8, rows
+    for row in rows[2:]:
+        for n in re.findall(r"\d+(?:\.\d+)?", row[2]):
+            assert n in numbers, f"README: {n} ({row[2].strip()}) is in no shipped file"

@@ -115,6 +115,9 @@ def _run(block: Block, clone: Path) -> None:
     r = subprocess.run(argv, cwd=clone, env=env, capture_output=True, text=True,
                        timeout=TIMEOUT)  # fmt: skip
     assert r.returncode == 0, f"{block.where}\n{r.stdout[-3000:]}\n{r.stderr[-3000:]}"
+    printed = r.stdout.splitlines()
+    for row in block.table:
+        assert row in printed, f"{block.where}: the page's row is not printed: {row}"
     if block.lang == "sh":
         for argv in command_lines(block.code):
             for out in out_dirs(argv):
@@ -156,6 +159,8 @@ def test_every_mark_says_why():
         for b in all_blocks(lang):
             if b.mode != "run":
                 assert b.reason, f"{b.where}: '{b.mode}' without a reason"
+    printing = [b for b in all_blocks("sh") if b.table]
+    assert len(printing) >= 3 and all(len(b.table) >= 3 for b in printing)
 
 
 def _commands() -> list[tuple[str, list[str]]]:

@@ -78,7 +78,7 @@ BUDGETS: dict[str, Budget] = {
     "quick": Budget(
         "quick", 50, {"kick": 30, "getup": 10, "return-legs": 20, "composed": 30}
     ),
-    # what `make demo` runs (README, "The demo"): the long budget's simple
+    # what `make demo` runs (docs/results.md, "The demo"): the long budget's simple
     # behaviours and the quick budget's composed stage. On the quick budget's
     # simple behaviours (a kick of 0.99 m) seed 0's switcher keeps the creature
     # lying on its side, which scores more than any jumping it can compose

@@ -11,7 +11,8 @@ replaced and its share resubmitted.
 
 Connecting: ``address=None`` starts a local Ray instance (or uses the one this
 process already has); ``"auto"`` or ``"HOST:PORT"`` joins a running cluster
-(``ray start --head`` there; token authentication stays on, see the README).
+(``ray start --head`` there; token authentication stays on, see
+docs/guide/ray.md).
 """
 
 from __future__ import annotations
