@@ -90,9 +90,12 @@ def _fresh_clone(tmp: Path) -> Path:
     shutil.copytree(demo, clone / "demo" / "reproduce")
     venv = clone / ".venv" / "bin"
     venv.mkdir(parents=True)
+    # as an editable install: this tree's src/ importable whatever PYTHONPATH
+    # a command sets (tests/plugin for a plugin, say)
+    sh = f'#!/bin/sh\nexport PYTHONPATH="{ROOT / "src"}${{PYTHONPATH:+:$PYTHONPATH}}"\n'
     scripts = {
-        "python": f'#!/bin/sh\nexec "{sys.executable}" "$@"\n',
-        "locustjump": f'#!/bin/sh\nexec "{sys.executable}" -m locustjump.cli "$@"\n',
+        "python": f'{sh}exec "{sys.executable}" "$@"\n',
+        "locustjump": f'{sh}exec "{sys.executable}" -m locustjump.cli "$@"\n',
         "activate": f'PATH="{venv}:$PATH"; export PATH\n',
     }
     for name, text in scripts.items():
