@@ -166,7 +166,7 @@ print(f"a random policy's kick return: {ret:.4f}; our evolved kick: "
 
 - The command line does all of this and more: `locustjump --help`; the
   whole paper in one command: `locustjump reproduce`.
-- Compare optimizers (`--optimizer cma-es`), scenes (`--scene debris`) and
+- Compare optimizers (`--optimizer cma`), scenes (`--scene debris`) and
   seeds with a study file: `locustjump study studies/example.toml --dry-run`.
 - Which of the paper's claims hold, and why: the science pages."""),
 ]

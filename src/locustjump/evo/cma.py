@@ -63,7 +63,7 @@ def _import_cma() -> Any:  # pycma: untyped
     except ImportError:
         raise UserError(
             f"{setting_ref('optimizer')} cma needs the cma library: "
-            "pip install 'locustjump[cma]'"
+            "pip install -e '.[cma]' in the clone"
         ) from None
     return cma
 

@@ -165,7 +165,8 @@ def import_ribs() -> Any:
         import ribs.schedulers
     except ImportError:
         raise ImportError(
-            "the quality-diversity optimizers need pyribs: pip install 'locustjump[qd]'"
+            "the quality-diversity optimizers need pyribs: "
+            "pip install -e '.[qd]' in the clone"
         ) from None
     return ribs
 

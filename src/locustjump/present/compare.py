@@ -160,7 +160,7 @@ def mann_whitney(a: np.ndarray, b: np.ndarray) -> tuple[float, float]:
         from scipy.stats import mannwhitneyu
     except ImportError:
         raise UserError(
-            "the rank test needs SciPy: pip install 'locustjump[study]'"
+            "the rank test needs SciPy: pip install -e '.[study]' in the clone"
         ) from None
     r = mannwhitneyu(a, b, alternative="two-sided")
     return float(r.statistic), float(r.pvalue)

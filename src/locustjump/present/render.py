@@ -317,7 +317,7 @@ def _writer(path: Path, fps: float):
         import imageio.v2 as iio
     except ImportError:
         raise RenderUnavailable(
-            "video encoding needs imageio: pip install 'locustjump[video]'"
+            "video encoding needs imageio: pip install -e '.[video]' in the clone"
         ) from None
     if path.suffix.lower() == ".gif":
         return iio.get_writer(path, mode="I", duration=1000.0 / fps, loop=0)
@@ -325,7 +325,8 @@ def _writer(path: Path, fps: float):
         import imageio_ffmpeg  # noqa: F401
     except ImportError:
         raise RenderUnavailable(
-            "mp4 needs imageio-ffmpeg: pip install 'locustjump[video]' (or use .gif)"
+            "mp4 needs imageio-ffmpeg: pip install -e '.[video]' in the clone "
+            "(or use .gif)"
         ) from None
     return iio.get_writer(
         path, fps=fps, codec="libx264", quality=7, macro_block_size=16,

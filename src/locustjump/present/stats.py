@@ -46,7 +46,7 @@ def _scipy_stats():
         from scipy import stats
     except ImportError:
         raise UserError(
-            "the rank tests need SciPy: pip install 'locustjump[study]'"
+            "the rank tests need SciPy: pip install -e '.[study]' in the clone"
         ) from None
     return stats
 

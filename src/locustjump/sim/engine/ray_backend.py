@@ -35,7 +35,8 @@ def _ray() -> ModuleType:
         import ray
     except ImportError:
         raise UserError(
-            f"{setting_ref('backend')} ray needs Ray: pip install 'locustjump[ray]'"
+            f"{setting_ref('backend')} ray needs Ray: "
+            "pip install -e '.[ray]' in the clone"
         ) from None
     return ray
 
