@@ -246,10 +246,10 @@ def cmd_reproduce(args: argparse.Namespace) -> int:
             args.out, args.seeds, backend=args.backend, threads=args.threads,
             address=args.address, **common,
         )  # fmt: skip
-        print(path.read_text().split("## Best fitness")[0].rstrip())
+        print(rundir.read_text(path).split("## Best fitness")[0].rstrip())
         return 0
     path = reproduce(args.out, seed=args.seed, backend=_backend(args), **common)
-    print(path.read_text().split("## Beyond")[0].rstrip())
+    print(rundir.read_text(path).split("## Beyond")[0].rstrip())
     return 0
 
 

@@ -44,7 +44,7 @@ def resolve_config(
         if config is not None:
             raise UserError("--resume reads the run's own config.toml; drop --config")
         path = Path(out) / rundir.CONFIG
-        if not path.is_file():
+        if not os.path.lexists(path):
             stopped = Path(out).is_dir() and rundir.is_unstarted(Path(out))
             raise UserError(
                 f"--resume: {out} holds no run (no {rundir.CONFIG})"
@@ -135,9 +135,7 @@ def _scene_named(text: str) -> Terrains:
             f"--scene: unknown scene {text!r}; choose from "
             f"{', '.join(scene_names())}, or give a .toml file with a [scene] table"
         )
-    if not path.is_file():
-        raise UserError(f"--scene: {text}: no such file")
-    table = rundir.read_toml(path)
+    table = rundir.read_toml(path, "scene file")
     if "scene" not in table:
         raise UserError(f"--scene: {text}: no [scene] table")
     return terrains_from_table(table["scene"], text)

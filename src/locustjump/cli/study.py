@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
+from locustjump import rundir
 from locustjump.cli.argtypes import _seeds
 from locustjump.cli.options import add_backend
 from locustjump.runs.study import dry_run, run_study, status
@@ -77,7 +78,7 @@ def cmd_study(args: argparse.Namespace) -> int:
 
     if args.table:
         md, js = study_table(study, backend, log=log)
-        print(md.read_text(), end="")
+        print(rundir.read_text(md), end="")
         print(f"wrote {md}, {js}, {study.out / FIGURE}")
         return 0
     final = run_study(study, backend=backend, progress=not args.quiet, log=log)

@@ -30,6 +30,8 @@ from locustjump.version import __version__
 if TYPE_CHECKING:
     from locustjump.sim.engine.backends import Backend
 _MIME = {".png": "image/png", ".gif": "image/gif", ".mp4": "video/mp4"}
+#: the largest figure or video embedded (a run's 2,500-frame video is ~10 MB)
+MAX_FIGURE_BYTES = 256 << 20
 
 _STYLE = """
 body { font: 15px/1.45 system-ui, sans-serif; max-width: 1100px; margin: 2em auto;
@@ -58,7 +60,8 @@ window.addEventListener("load", () => {
 
 def _data_uri(path: Path) -> str:
     mime = _MIME[path.suffix.lower()]
-    return f"data:{mime};base64,{base64.b64encode(path.read_bytes()).decode()}"
+    data = rundir.read_bytes(path, "figure", MAX_FIGURE_BYTES)
+    return f"data:{mime};base64,{base64.b64encode(data).decode()}"
 
 
 def _figure(path: Path, caption: str = "") -> str:

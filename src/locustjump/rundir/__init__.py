@@ -78,13 +78,21 @@ from locustjump.rundir.outputs import (
     prepare_out_file,
     remove_made,
 )
-from locustjump.rundir.reads import load_npz, read_json, read_text, read_toml
+from locustjump.rundir.reads import (
+    load_npz,
+    open_regular,
+    read_bytes,
+    read_json,
+    read_text,
+    read_toml,
+)
 from locustjump.rundir.run import (
     BestGenome,
     FrozenGenomes,
     behaviour_of,
     frozen_of,
     frozen_setting,
+    load_best,
     load_config,
     load_run,
     write_config,

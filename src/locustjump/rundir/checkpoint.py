@@ -23,6 +23,10 @@ from locustjump.rundir.migrations import (
 from locustjump.rundir.reads import load_npz
 from locustjump.rundir.run import BestGenome
 
+#: what a checkpoint holds beside its numbers, at most (bytes: names, the
+#: generator's state and the metrics row as text, headers)
+_TEXT = 1 << 16
+
 _CHECKPOINT_KEYS = (
     "format",
     "behaviour",
@@ -57,22 +61,46 @@ def write_checkpoint(
     )
 
 
+def checkpoint_bytes(cfg: TrainConfig, num_params: int) -> int:
+    """The most bytes of arrays a checkpoint of configuration ``cfg`` holds:
+    genomes of ``num_params`` genes (the best, and a population of them, as
+    the RCGA keeps), a fitness per individual and generation (as CMA-ES
+    keeps, to replay), and small text (names, the generator's state, the
+    metrics row)."""
+    n = cfg.population
+    return _TEXT + 8 * (n * (num_params + cfg.generations + 2) + 2 * num_params)
+
+
 def read_checkpoint(
-    path: Path, cfg: TrainConfig, num_params: int
+    path: Path,
+    cfg: TrainConfig,
+    num_params: int,
+    state_keys: tuple[str, ...] | None = None,
 ) -> tuple[BestGenome, str, dict[str, np.ndarray]]:
     """``(best, metrics_row, state)`` of ``checkpoint.npz``, checked against the
-    configuration ``cfg`` (``UserError`` naming the file): every array of the
-    dtype and shape written, finite, of this run, the best genome and the
+    configuration ``cfg`` (``UserError`` naming the file): no array beyond
+    those written (the optimizer's ``state_keys``, if given; else any
+    prefixed as its state), none larger than such a checkpoint holds
+    (:func:`checkpoint_bytes`, checked before any is inflated), every one of
+    the dtype and shape written, finite, of this run, the best genome and the
     metrics row of a generation it has done. Older checkpoints through
     :mod:`~locustjump.rundir.migrations`; the optimizer checks its own state
     (``Optimizer.load_state``)."""
+    own = () if state_keys is None else tuple(STATE_PREFIX + k for k in state_keys)
     z = load_npz(
         path,
         _CHECKPOINT_KEYS,
-        optional=("optimizer", *RCGA_STATE_BEFORE),
-        prefix=STATE_PREFIX,
+        optional=("optimizer", *RCGA_STATE_BEFORE, *own),
+        prefix=STATE_PREFIX if state_keys is None else None,
+        max_bytes=checkpoint_bytes(cfg, num_params),
     )
     state = checkpoint_state(z, path)
+    if state_keys is not None and "optimizer" in z:
+        missing = sorted(set(state_keys) - set(state))
+        if missing:
+            raise UserError(
+                f"{path}: missing {', '.join(STATE_PREFIX + k for k in missing)}"
+            )
     behaviour = scalar(z, "behaviour", path, "U")
     if behaviour != cfg.behaviour:
         raise UserError(f"{path}: holds a {behaviour!r} run, not {cfg.behaviour!r}")

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 CONFIG = "config.toml"
@@ -44,8 +45,12 @@ METRICS_COLUMNS = (
 )
 
 
+# a marker that is there but not a regular file (a directory, a FIFO) still
+# marks: reading it then names what it is
+
+
 def is_run(d: Path) -> bool:
-    return (Path(d) / CONFIG).is_file()
+    return os.path.lexists(Path(d) / CONFIG)
 
 
 #: what a new run writes before its config.toml, and their temporary files
@@ -66,11 +71,11 @@ def is_unstarted(d: Path) -> bool:
 
 
 def is_reproduction(d: Path) -> bool:
-    return (Path(d) / MARKER).is_file()
+    return os.path.lexists(Path(d) / MARKER)
 
 
 def is_multiseed(d: Path) -> bool:
-    return (Path(d) / SEEDS_MARKER).is_file()
+    return os.path.lexists(Path(d) / SEEDS_MARKER)
 
 
 def seed_dir(d: Path, seed: int) -> Path:

@@ -19,28 +19,28 @@ import numpy as np
 
 from locustjump.errors import UserError
 from locustjump.rundir.files import atomic_write_text
-from locustjump.rundir.layout import METRICS, METRICS_COLUMNS
+from locustjump.rundir.layout import CHECKPOINT, METRICS, METRICS_COLUMNS
+from locustjump.rundir.reads import open_regular, read_bytes
 from locustjump.sim.resources import require_memory
 
 #: integer columns (the others are floats)
 _INTEGERS = ("generation", "evaluations", "control_steps")
 #: how many times the file's size parsing it takes, at most (for the memory check)
 _PARSE_FACTOR = 16
+#: the largest metrics.csv read: about 500,000 generations (a row is about
+#: 120 bytes; the paper's runs have 1,000)
+MAX_METRICS_BYTES = 64 << 20
 
 
 def _lines(path: Path) -> list[str]:
-    """The complete lines of ``path`` (``[]`` if absent)."""
-    try:
-        size = os.stat(path).st_size
-        require_memory(size * _PARSE_FACTOR, f"{path}")
-        with open(path, newline="") as f:
-            text = f.read()
-    except FileNotFoundError:
+    """The complete lines of ``path`` (``[]`` if absent), read only if it is a
+    regular file, and at most :data:`MAX_METRICS_BYTES` of it."""
+    if not os.path.lexists(path):
         return []
-    except IsADirectoryError:
-        raise UserError(f"{path}: is a directory, expected a metrics file") from None
-    except OSError as e:
-        raise UserError(f"{path}: cannot be read ({e.strerror or e})") from None
+    data = read_bytes(path, "metrics file", MAX_METRICS_BYTES)
+    require_memory(len(data) * _PARSE_FACTOR, f"{path}")
+    try:
+        text = data.decode()
     except UnicodeDecodeError:
         raise UserError(f"{path}: not a metrics file (not UTF-8 text)") from None
     lines = text.splitlines(keepends=True)
@@ -137,12 +137,15 @@ def metrics_line(
 def metrics_extra_columns(path: Path) -> tuple[str, ...] | None:
     """The optimizer's columns after :data:`METRICS_COLUMNS` in the header of
     metrics.csv ``path``; ``None`` if it has no such header (absent, empty,
-    damaged). Files written before diagnostics existed have none: ``()``."""
-    try:
-        with open(path) as f:
-            first = f.readline(4096)
-    except (OSError, UnicodeDecodeError):
+    damaged); ``UserError`` if it is not a regular file. Files written before
+    diagnostics existed have none: ``()``."""
+    if not os.path.lexists(path):
         return None
+    with open_regular(path, "metrics file") as f:
+        try:
+            first = f.readline(4096).decode()
+        except (OSError, UnicodeDecodeError):
+            return None
     names = tuple(first.strip().split(","))
     n = len(METRICS_COLUMNS)
     return names[n:] if first.endswith("\n") and names[:n] == METRICS_COLUMNS else None
@@ -158,9 +161,17 @@ def truncate_metrics(
     """Keep the header (:data:`METRICS_COLUMNS` and the optimizer's ``extra``
     columns) and the rows of generations 1..``generation``; the row of
     ``generation`` itself is ``last_row`` (from the checkpoint) if missing.
-    Every row is checked first, and must agree with ``last_row``."""
+    Every row is checked first, and must agree with ``last_row``; rows
+    beyond ``generation`` are refused (the checkpoint is written before its
+    row: more rows than it holds mean it was lost or replaced)."""
     names = (*METRICS_COLUMNS, *extra)
     found, texts, rows = _rows(path)
+    if len(texts) > generation:
+        has = f"holds only {generation}" if generation else "is missing"
+        raise UserError(
+            f"{path}: holds {len(texts)} generations but {CHECKPOINT} {has} "
+            "(nothing changed)"
+        )
     if found and found != names:
         raise UserError(
             f"{path}: its columns {','.join(found)} are not the run's {','.join(names)}"

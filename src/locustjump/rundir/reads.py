@@ -1,24 +1,36 @@
 """Pickle-free reads of a run's files, bounded before anything is parsed.
 
-A file is read only as far as its kind can be large: a TOML or JSON file up
-to :data:`MAX_TEXT_BYTES` (``--config /dev/zero`` stops there) and nested at
-most :data:`MAX_NESTING` deep (deeper ones would exhaust the parser's
-recursion); an ``.npz`` only if the sizes its members declare fit in memory
-(:func:`~locustjump.sim.resources.require_memory`, the check that guards
-populations): a member never inflates past the size its zip entry declares,
-and no array is allocated past the shape its header declares. Every failure
-is a ``UserError`` naming the file.
+Every file any command reads goes through :func:`open_regular`: a regular
+file (after symbolic links) is opened, anything else — a directory, a FIFO or
+pipe (``/dev/stdin``), a device (``/dev/zero``), a socket — is refused before
+it is opened, so that no read blocks or never ends. Sizes are bounded by the
+bytes actually read, never by the size a file reports (``/proc`` files report
+0): a TOML or JSON file up to :data:`MAX_TEXT_BYTES` (``--config /dev/zero``
+stops there); its nesting at most :data:`MAX_NESTING` deep however it is
+spelled — brackets counted before parsing (deeper ones exhaust the parser's
+recursion), dotted keys and table headers (``a.a.a = 1``, which the parser
+reads without recursion) counted in the parsed value, before any code walks
+it. An ``.npz`` holds only the arrays asked for, at most
+:data:`MAX_NPZ_MEMBERS` of them, and the sizes their headers declare must fit
+the caller's bound and memory
+(:func:`~locustjump.sim.resources.require_memory`) before any is inflated: no
+member inflates past the size its header declares. Every failure is a
+``UserError`` naming the file.
 """
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import os
+import stat
 import tomllib
 import zipfile
+import zlib
+from collections.abc import Iterator
 from pathlib import Path
-from typing import IO, Any
+from typing import IO, Any, BinaryIO
 
 import numpy as np
 
@@ -31,28 +43,107 @@ MAX_TEXT_BYTES = 1 << 20
 MAX_NESTING = 32
 #: the most arrays in one ``.npz`` (a checkpoint holds about a dozen)
 MAX_NPZ_MEMBERS = 256
+#: the most bytes of arrays an ``.npz`` may declare where its reader knows no
+#: tighter bound (each of a run's files has its own: genome files by their
+#: genomes, the checkpoint by its population)
+MAX_NPZ_BYTES = 1 << 28
+#: what an ``.npz`` file holds beside its arrays, at most (zip and ``.npy``
+#: headers, names)
+NPZ_OVERHEAD = 1 << 20
+
+#: what each kind of file that is not a regular one is called
+_NOT_REGULAR = (
+    (stat.S_ISDIR, "a directory"),
+    (stat.S_ISFIFO, "a FIFO (named pipe)"),
+    (stat.S_ISCHR, "a character device"),
+    (stat.S_ISBLK, "a block device"),
+    (stat.S_ISSOCK, "a socket"),
+)
 
 
-def read_text(path: str | os.PathLike[str], what: str = "text file") -> str:
-    """The UTF-8 text of ``path``, at most :data:`MAX_TEXT_BYTES` of it."""
+def _article(what: str) -> str:
+    return f"an {what}" if what[:1].lower() in "aeiou." else f"a {what}"
+
+
+def _not_regular(path: Path, mode: int, what: str) -> UserError | None:
+    if stat.S_ISREG(mode):
+        return None
+    kind = next((k for test, k in _NOT_REGULAR if test(mode)), "something else")
+    return UserError(
+        f"{path}: is {kind}, not a regular file; expected {_article(what)}"
+    )
+
+
+def _unreadable(path: Path, e: OSError) -> UserError:
+    if isinstance(e, FileNotFoundError):
+        if os.path.lexists(path):
+            return UserError(f"{path}: a broken symbolic link")
+        return UserError(f"{path}: no such file")
+    return UserError(f"{path}: cannot be read ({e.strerror or e})")
+
+
+@contextlib.contextmanager
+def open_regular(
+    path: str | os.PathLike[str], what: str = "file"
+) -> Iterator[BinaryIO]:
+    """``path`` opened for binary reading, if it is a regular file (symbolic
+    links followed); ``UserError`` naming it if it is missing or anything
+    else (``what``: what it should be, for the message). It is looked at
+    before it is opened, and opened without blocking and looked at again (it
+    may have been replaced meanwhile): a FIFO is never waited on, a device
+    never read."""
     path = Path(path)
     try:
-        with open(path, "rb") as f:
-            data = f.read(MAX_TEXT_BYTES + 1)
-    except FileNotFoundError:
-        raise UserError(f"{path}: no such file") from None
-    except IsADirectoryError:
-        raise UserError(f"{path}: is a directory, expected a {what}") from None
+        refused = _not_regular(path, os.stat(path).st_mode, what)
     except OSError as e:
-        raise UserError(f"{path}: cannot be read ({e.strerror or e})") from None
-    if len(data) > MAX_TEXT_BYTES:
-        raise UserError(
-            f"{path}: larger than {MAX_TEXT_BYTES // 1024} KiB, not a {what}"
-        )
+        raise _unreadable(path, e) from None
+    if refused is not None:
+        raise refused
+    flags = os.O_RDONLY | os.O_NONBLOCK | os.O_NOCTTY | getattr(os, "O_CLOEXEC", 0)
+    try:
+        fd = os.open(path, flags)
+    except OSError as e:
+        raise _unreadable(path, e) from None
+    with os.fdopen(fd, "rb") as f:
+        refused = _not_regular(path, os.fstat(fd).st_mode, what)
+        if refused is not None:
+            raise refused
+        yield f
+
+
+def read_bytes(path: str | os.PathLike[str], what: str, limit: int) -> bytes:
+    """The bytes of regular file ``path`` (:func:`open_regular`), at most
+    ``limit`` of them: a longer one is refused once ``limit + 1`` are read,
+    whatever size it reports."""
+    path = Path(path)
+    with open_regular(path, what) as f:
+        try:
+            data = f.read(limit + 1)
+        except OSError as e:
+            raise _unreadable(path, e) from None
+    if len(data) > limit:
+        raise UserError(f"{path}: larger than {_size(limit)}, not {_article(what)}")
+    return data
+
+
+def _size(n: int) -> str:
+    for unit, shift in (("GiB", 30), ("MiB", 20), ("KiB", 10)):
+        if n >= 1 << shift and n % (1 << shift) == 0:
+            return f"{n >> shift} {unit}"
+    return f"{n:,} bytes"
+
+
+def read_text(
+    path: str | os.PathLike[str], what: str = "text file", limit: int = MAX_TEXT_BYTES
+) -> str:
+    """The UTF-8 text of regular file ``path``, at most ``limit`` bytes of it."""
+    data = read_bytes(path, what, limit)
     try:
         return data.decode()
     except UnicodeDecodeError as e:
-        raise UserError(f"{path}: not a {what} (not UTF-8: {e.reason})") from None
+        raise UserError(
+            f"{path}: not {_article(what)} (not UTF-8: {e.reason})"
+        ) from None
 
 
 def nesting(text: str) -> int:
@@ -86,28 +177,53 @@ def nesting(text: str) -> int:
     return deepest
 
 
-def _shallow(path: Path, text: str, what: str) -> None:
-    if nesting(text) > MAX_NESTING:
-        raise UserError(f"{path}: nested more than {MAX_NESTING} deep, not a {what}")
+def depth(value: Any) -> int:
+    """How deep tables (dicts) and arrays (lists) nest in ``value`` (a scalar:
+    0), counted without recursion, so that any depth can be measured."""
+    deepest = 0
+    stack = [(value, 1)]
+    while stack:
+        v, d = stack.pop()
+        if isinstance(v, dict):
+            v = list(v.values())
+        elif not isinstance(v, list):
+            continue
+        deepest = max(deepest, d)
+        stack.extend((x, d + 1) for x in v)
+    return deepest
+
+
+def _too_deep(path: Path, what: str) -> UserError:
+    return UserError(
+        f"{path}: nested more than {MAX_NESTING} deep, not {_article(what)}"
+    )
 
 
 def read_toml(path: str | os.PathLike[str], what: str = "TOML file") -> dict[str, Any]:
-    """A TOML file, bounded in size and nesting before it is parsed."""
+    """A TOML file, bounded in size and nesting (brackets before it is parsed,
+    dotted keys once it is)."""
     path = Path(path)
     text = read_text(path, what)
-    _shallow(path, text, what)
+    if nesting(text) > MAX_NESTING:
+        raise _too_deep(path, what)
     try:
-        return tomllib.loads(text)
+        data = tomllib.loads(text)
     except (tomllib.TOMLDecodeError, RecursionError) as e:
         raise UserError(f"{path}: not valid TOML ({e})") from None
+    if depth(data) > MAX_NESTING:
+        raise _too_deep(path, what)
+    return data
 
 
-def read_json(path: str | os.PathLike[str]) -> dict[str, Any]:
-    """A JSON object (every JSON file of a run is one), bounded in size and
-    nesting before it is parsed."""
+def read_json(
+    path: str | os.PathLike[str], limit: int = MAX_TEXT_BYTES
+) -> dict[str, Any]:
+    """A JSON object (every JSON file of a run is one) of at most ``limit``
+    bytes, bounded in nesting before it is parsed."""
     path = Path(path)
-    text = read_text(path, "JSON file")
-    _shallow(path, text, "JSON file")
+    text = read_text(path, "JSON file", limit)
+    if nesting(text) > MAX_NESTING:
+        raise _too_deep(path, "JSON file")
     try:
         data = json.loads(text)
     except (ValueError, RecursionError) as e:
@@ -129,36 +245,69 @@ def _npy_header(f: IO[bytes]) -> tuple[tuple[int, ...], np.dtype]:
     return shape, dtype
 
 
-def _check_members(path: Path, names: set[str], max_bytes: int | None) -> None:
-    """Refuse an ``.npz`` whose members ``names`` are not plain arrays, or
-    would not fit in memory (or in ``max_bytes``), from its directory and
-    headers alone."""
-    total = 0
-    with zipfile.ZipFile(path) as zf:
-        infos = zf.infolist()
-        if len(infos) > MAX_NPZ_MEMBERS:
-            raise UserError(f"{path}: holds {len(infos)} arrays, not a run's file")
-        for info in infos:
-            name = info.filename
-            if name.removesuffix(".npy") not in names:
-                continue  # never read
-            with zf.open(info) as f:
-                shape, dtype = _npy_header(f)
-            if dtype.hasobject:
-                raise UserError(f"{path}: {name} holds Python objects (not read)")
-            declared = math.prod(shape) * dtype.itemsize
-            if declared > info.file_size:
-                raise UserError(
-                    f"{path}: {name} declares {declared:,} bytes of data but "
-                    f"holds {info.file_size:,}"
-                )
-            total += info.file_size
-    if max_bytes is not None and total > max_bytes:
+def _members(
+    path: Path, zf: zipfile.ZipFile, wanted: set[str], prefix: str | None
+) -> dict[str, zipfile.ZipInfo]:
+    """The members of ``zf`` by array name, each one that is ``wanted`` or
+    starts with ``prefix``; any other is refused (never read)."""
+    infos = zf.infolist()
+    if len(infos) > MAX_NPZ_MEMBERS:
+        raise UserError(f"{path}: holds {len(infos)} arrays, not a run's file")
+    members: dict[str, zipfile.ZipInfo] = {}
+    for info in infos:
+        name = info.filename.removesuffix(".npy")
+        known = name in wanted or (prefix is not None and name.startswith(prefix))
+        if not (info.filename.endswith(".npy") and known) or name in members:
+            what = "twice" if name in members else "which such a file does not"
+            raise UserError(
+                f"{path}: holds {info.filename[:60]!r}, {what} (nothing read)"
+            )
+        members[name] = info
+    return members
+
+
+def _declared(path: Path, zf: zipfile.ZipFile, name: str, info) -> int:
+    """The bytes of data member ``info``'s header declares (nothing inflated)."""
+    with zf.open(info) as f:
+        shape, dtype = _npy_header(f)
+    if dtype.hasobject:
+        raise UserError(f"{path}: {info.filename} holds Python objects (not read)")
+    if any(n < 0 for n in shape):
+        raise UserError(f"{path}: {info.filename} declares the shape {shape}")
+    declared = math.prod(shape) * dtype.itemsize
+    if declared > info.file_size:
         raise UserError(
-            f"{path}: {total:,} bytes of arrays, more than such a file holds "
-            f"({max_bytes:,})"
+            f"{path}: {info.filename} declares {declared:,} bytes of data but "
+            f"holds {info.file_size:,}"
         )
-    require_memory(total, f"{path}: its arrays")
+    return declared
+
+
+def _read_npz(
+    path: Path,
+    f: BinaryIO,
+    keys: tuple[str, ...],
+    optional: tuple[str, ...],
+    prefix: str | None,
+    max_bytes: int,
+) -> dict[str, np.ndarray]:
+    with zipfile.ZipFile(f) as zf:
+        members = _members(path, zf, {*keys, *optional}, prefix)
+        missing = [k for k in keys if k not in members]
+        if missing:
+            raise UserError(f"{path}: missing {', '.join(missing)}")
+        total = sum(_declared(path, zf, n, i) for n, i in members.items())
+        if total > max_bytes:
+            raise UserError(
+                f"{path}: its arrays declare {total:,} bytes, more than such a "
+                f"file holds ({max_bytes:,}; nothing inflated)"
+            )
+        require_memory(total, f"{path}: its arrays")
+        out = {}
+        for name, info in members.items():
+            with zf.open(info) as m:
+                out[name] = np.lib.format.read_array(m, allow_pickle=False)
+        return out
 
 
 def load_npz(
@@ -167,38 +316,33 @@ def load_npz(
     *,
     optional: tuple[str, ...] = (),
     prefix: str | None = None,
-    max_bytes: int | None = None,
+    max_bytes: int = MAX_NPZ_BYTES,
 ) -> dict[str, np.ndarray]:
     """The arrays ``keys`` (required), ``optional`` and those whose name
-    starts with ``prefix`` of ``path`` (no pickle; other arrays are not
-    read); ``UserError`` naming the file if it is missing, not an ``.npz``,
-    or holds more than ``max_bytes`` or memory allows."""
+    starts with ``prefix`` of ``.npz`` file ``path`` (no pickle), if it holds
+    no other and they declare at most ``max_bytes`` of data in all;
+    ``UserError`` naming the file otherwise (missing, not a regular file,
+    not an ``.npz``, larger than that or than memory allows)."""
     path = Path(path)
-    try:
-        if path.is_dir():
-            raise UserError(f"{path}: is a directory, expected an .npz file")
-        if not path.is_file():
-            what = "no such file" if not os.path.lexists(path) else "not a file"
-            raise UserError(f"{path}: {what}")
-        with np.load(path, allow_pickle=False) as z:
-            missing = [k for k in keys if k not in z.files]
-            if missing:
-                raise UserError(f"{path}: missing {', '.join(missing)}")
-            names = {*keys, *optional} | {
-                k for k in z.files if prefix is not None and k.startswith(prefix)
-            }
-            names &= set(z.files)
-            _check_members(path, names, max_bytes)
-            return {k: z[k] for k in z.files if k in names}
-    except UserError:
-        raise
-    except (
-        OSError,
-        ValueError,
-        EOFError,
-        zipfile.BadZipFile,
-        KeyError,
-        MemoryError,
-        NotImplementedError,  # an unknown compression method
-    ) as e:
-        raise UserError(f"{path}: not a readable .npz file ({e})") from None
+    with open_regular(path, ".npz file") as f:
+        size = os.fstat(f.fileno()).st_size
+        if size > max_bytes + NPZ_OVERHEAD:
+            raise UserError(
+                f"{path}: {size:,} bytes, more than such a file holds "
+                f"({max_bytes + NPZ_OVERHEAD:,})"
+            )
+        try:
+            return _read_npz(path, f, keys, optional, prefix, max_bytes)
+        except zipfile.BadZipFile as e:
+            raise UserError(f"{path}: not an .npz file ({e})") from None
+        except (
+            OSError,
+            ValueError,
+            EOFError,
+            KeyError,
+            MemoryError,
+            RuntimeError,  # an encrypted member
+            NotImplementedError,  # an unknown compression method
+            zlib.error,  # damaged compressed data
+        ) as e:
+            raise UserError(f"{path}: not a readable .npz file ({e})") from None

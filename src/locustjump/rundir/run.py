@@ -19,7 +19,7 @@ from locustjump.rundir.config import TrainConfig
 from locustjump.rundir.files import save_npz, write_toml
 from locustjump.rundir.layout import BEST, CONFIG, FORMAT, is_run
 from locustjump.rundir.migrations import frozen_path, npz_format
-from locustjump.rundir.reads import load_npz, read_toml
+from locustjump.rundir.reads import MAX_NPZ_BYTES, load_npz, read_toml
 from locustjump.sim.params import LocustParams
 from locustjump.tasks import behaviour_class, get_behaviour
 from locustjump.tasks.base import Behaviour
@@ -88,7 +88,7 @@ class BestGenome:
         z = load_npz(
             path,
             ("format", "genome", "fitness", "generation", "behaviour", "config_hash"),
-            max_bytes=None if num_params is None else _SMALL + 8 * num_params,
+            max_bytes=MAX_NPZ_BYTES if num_params is None else _SMALL + 8 * num_params,
         )
         npz_format(z, path)
         g = np.asarray(z["genome"])
@@ -298,9 +298,16 @@ def load_run(
         raise UserError(f"{out}: holds no run (no {CONFIG})")
     cfg = load_config(out / CONFIG)
     beh = behaviour_of(cfg, out)
+    return cfg, beh, load_best(out, cfg, beh.controller.num_params)
+
+
+def load_best(out: Path, cfg, num_params: int) -> BestGenome:
+    """``best.npz`` of run directory ``out`` (configuration ``cfg``, genomes
+    of ``num_params`` genes), checked (:meth:`BestGenome.load`) and of this
+    run: its behaviour and config hash, a generation within the budget."""
     if not os.path.lexists(out / BEST):
         raise UserError(f"{out}: no {BEST} yet (the run has not finished a generation)")
-    best = BestGenome.load(out / BEST, beh.controller.num_params)
+    best = BestGenome.load(out / BEST, num_params)
     if best.behaviour != cfg.behaviour or best.config_hash != cfg.hash():
         raise UserError(
             f"{out / BEST}: belongs to another run ({best.behaviour}, hash "
@@ -311,4 +318,4 @@ def load_run(
             f"{out / BEST}: of generation {best.generation}, beyond the run's "
             f"{cfg.generations} ({CONFIG})"
         )
-    return cfg, beh, best
+    return best

@@ -359,7 +359,7 @@ class Reproduction:
 
 def _read_marker(path: Path) -> dict[str, Any]:
     """A marker's table, older ones as they were meant ({} if there is none)."""
-    if not path.is_file():
+    if not os.path.lexists(path):
         return {"scene": scene_table(Terrains())}
     table = rundir.read_toml(path)
     if path.name == rundir.MARKER:

@@ -45,6 +45,9 @@ if TYPE_CHECKING:
     from locustjump.sim.engine.backends import Backend
 
 SCORES = "scores.json"
+#: the largest scores.json read (a cache: ~15 KB a run and physics resolution
+#: on 40 terrains; the 15-seed debris study's holds about 0.9 MB)
+MAX_SCORES_BYTES = 64 << 20
 #: part of every score's key: raise it when what an episode's score holds,
 #: or how it is computed, changes (the cached scores are then recomputed)
 SCORES_VERSION = 1
@@ -103,7 +106,7 @@ def scores(
     cache_path = study.out / SCORES
     cache: dict[str, Any] = {}
     if cache_path.is_file():
-        cache = rundir.read_json(cache_path)
+        cache = rundir.read_json(cache_path, MAX_SCORES_BYTES)
     out = {}
     todo = [(a, s) for a, s in study.runs() if a.score]
     for k, (arm, seed) in enumerate(todo, 1):

@@ -111,10 +111,9 @@ def load_study(path: str | os.PathLike, seeds: str | None = None) -> Study:
     path = Path(path)
     if path.suffix != ".toml":
         raise UserError(f"{path}: a study file is a .toml file")
-    if not path.is_file():
-        what = "not a regular file" if path.exists() else "no such study file"
-        raise UserError(f"{path}: {what}")
-    d = rundir.read_toml(path)
+    if not os.path.lexists(path):
+        raise UserError(f"{path}: no such study file")
+    d = rundir.read_toml(path, "study file")
     src = str(path)
     unknown = sorted(set(d) - set(TOP_KEYS))
     if unknown:

@@ -102,11 +102,18 @@ class Trainer:
         """Back to the last checkpoint (and the archive of its generation)."""
         path = self.out / rundir.CHECKPOINT
         self.best, self.metrics_row, state = rundir.read_checkpoint(
-            path, self.cfg, self.num_params
+            path, self.cfg, self.num_params, tuple(self.opt.state())
         )
         try:
             self.opt.load_state(state)
-        except (ValueError, KeyError, TypeError, AttributeError, OverflowError) as e:
+        except (
+            ValueError,
+            KeyError,
+            TypeError,
+            AttributeError,
+            OverflowError,
+            RecursionError,  # the generator's state is JSON text
+        ) as e:
             raise UserError(f"{path}: malformed checkpoint ({e})") from None
         self.write_archive()  # killed between the two writes: one behind
 
@@ -345,7 +352,7 @@ def _resume(out: Path, cfg: TrainConfig, backend: Backend, builds_on: bool) -> T
         )
     beh = rundir.behaviour_of(cfg, out)
     run = Trainer(beh, _optimizer(cfg, beh), backend, out, cfg)
-    if (out / rundir.CHECKPOINT).exists():
+    if os.path.lexists(out / rundir.CHECKPOINT):
         run.restore()
     if cfg.generations < run.opt.generation:
         raise UserError(
@@ -353,6 +360,7 @@ def _resume(out: Path, cfg: TrainConfig, backend: Backend, builds_on: bool) -> T
             "already done "
             f"{run.opt.generation} (a run can be extended, not shortened)"
         )
+    _check_best(run)
     _keep_metrics_columns(run)
     rundir.truncate_metrics(
         out / rundir.METRICS, run.opt.generation, run.metrics_row, run.diagnostics
@@ -360,6 +368,38 @@ def _resume(out: Path, cfg: TrainConfig, backend: Backend, builds_on: bool) -> T
     if stored.generations != cfg.generations:
         rundir.write_config(out / rundir.CONFIG, cfg)
     return run
+
+
+def _check_best(run: Trainer) -> None:
+    """``best.npz``, kept by the resumed run, is checked as ``evaluate``
+    checks it, and must be the checkpoint's best genome, or the better one of
+    the generation after it (saved before a checkpoint that a kill stopped;
+    the resumed run recomputes and rewrites it). With no checkpoint there may
+    be none yet."""
+    path = run.out / rundir.BEST
+    done = run.opt.generation
+    if not os.path.lexists(path) and done == 0:
+        return
+    if not os.path.lexists(path):
+        raise UserError(
+            f"{path}: missing, but {rundir.CHECKPOINT} holds {done} generations"
+        )
+    best = rundir.load_best(run.out, run.cfg, run.num_params)
+    mine = run.best
+    same = mine is not None and (
+        best.generation == mine.generation
+        and best.fitness == mine.fitness
+        and np.array_equal(best.genome, mine.genome)
+    )
+    better = mine is None or best.fitness > mine.fitness
+    ahead = best.generation == done + 1 and better
+    if not (same or ahead):
+        held = "none" if mine is None else f"generation {mine.generation}'s"
+        raise UserError(
+            f"{path}: generation {best.generation}'s best (fitness "
+            f"{best.fitness:.6g}) is not the best genome {rundir.CHECKPOINT} "
+            f"holds ({held}; nothing changed)"
+        )
 
 
 def _differences(
