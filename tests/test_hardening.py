@@ -205,6 +205,56 @@ def test_a_new_run_on_a_full_disk_leaves_nothing(small_disk, capsys):
         filler.unlink()
 
 
+def test_evaluate_on_a_full_disk_leaves_no_directory(small_disk, tmp_path, capsys):
+    run = tmp_path / "run"
+    assert main(_small_run(run, 1)) == 0
+    filler = _fill(small_disk)
+    try:
+        for out in (small_disk / "ev", small_disk / "a" / "b"):
+            assert main(["evaluate", str(run), "--out", str(out)]) == 2
+            err = capsys.readouterr().err
+            assert "No space left on device" in err and len(err.splitlines()) == 1
+            assert sorted(p.name for p in small_disk.iterdir()) == ["filler"]
+    finally:
+        filler.unlink()
+
+
+def _can_render() -> None:
+    from locustjump.present import render
+    from locustjump.sim import model as lm
+
+    try:
+        render.make_renderer(lm.load_model(lm.LocustParams()), 32, 24).close()
+        from locustjump.present.video import ffmpeg_exe
+
+        ffmpeg_exe()
+    except render.RenderUnavailable as e:
+        pytest.skip(f"no offscreen rendering or encoding here: {e}")
+
+
+def test_render_on_a_full_disk_is_one_line_and_leaves_nothing(tmp_path):
+    """ffmpeg's failure (imageio dropped its exit status: exit 0, a truncated
+    MP4) and Pillow's (imageio retried it in every __del__: 46 lines) end
+    alike: one line, exit 2, no file."""
+    _can_render()
+    rules = tmp_path / "rules"
+    assert main(["rules", "--steps", "120", "--out", str(rules)]) == 0
+    # the videos: about 80 KB (MP4) and 190 KB (GIF)
+    with _tmpfs(tmp_path / "disk", "size=64k") as disk:
+        for ext in ("mp4", "gif"):
+            r = subprocess.run(
+                [sys.executable, "-m", "locustjump.cli", "render", str(rules),
+                 "--out", str(disk / f"v.{ext}"), "--fps", "20", "--quiet"],
+                capture_output=True, text=True,
+            )  # fmt: skip
+            assert r.returncode == 2 and r.stdout == "", r.stdout + r.stderr
+            assert r.stderr == (
+                f"locustjump: error: {disk / f'v.{ext}'}: cannot be written "
+                "(No space left on device)\n"
+            )
+            assert not list(disk.iterdir())
+
+
 def test_reading_a_shipped_reproduction_changes_none_of_its_files(
     shipped, tmp_path, capsys
 ):

@@ -143,17 +143,17 @@ def _write(
 ) -> Evaluation:
     """Trajectory CSVs and the behaviour's figures into ``ev``."""
     beh, res = episodes.behaviour, episodes.res
-    ev.mkdir(parents=True, exist_ok=True)
     labels = beh.state_labels()
     files = []
-    for e, label in enumerate(labels):
-        stem, ext = rundir.TRAJECTORY_CSV.rsplit(".", 1)
-        name = f"{stem}.{ext}" if len(labels) == 1 else f"{stem}_{label}.{ext}"
-        files.append(ev / name)
-        rundir.write_trajectory_csv(
-            files[-1], res["qpos"][e], res["obs"][e], res["ctrl"][e]
-        )
-    files += reporter_of(beh).write_figures(episodes, ev)
+    with rundir.made_dir(ev):  # removed again if a write fails
+        for e, label in enumerate(labels):
+            stem, ext = rundir.TRAJECTORY_CSV.rsplit(".", 1)
+            name = f"{stem}.{ext}" if len(labels) == 1 else f"{stem}_{label}.{ext}"
+            files.append(ev / name)
+            rundir.write_trajectory_csv(
+                files[-1], res["qpos"][e], res["obs"][e], res["ctrl"][e]
+            )
+        files += reporter_of(beh).write_figures(episodes, ev)
     return Evaluation(cfg.behaviour, fitness, best.fitness, metrics, files, elsewhere)
 
 

@@ -3,8 +3,9 @@
 :func:`playback_of` re-simulates what a directory holds (the best genome of a
 training run, or a rule-based run) with the engine and keeps every control
 step's ``qpos``; :func:`render_video` draws it offscreen with MuJoCo's renderer
-(cameras ``track`` and ``side`` of the MJCF) and encodes it with ``imageio``
-(extra ``locustjump[video]``); :func:`locustjump.present.viewer.view` plays
+(cameras ``track`` and ``side`` of the MJCF) and encodes it
+(:mod:`~locustjump.present.video`: MP4 needs the extra ``locustjump[video]``);
+:func:`locustjump.present.viewer.view` plays
 it in ``mujoco.viewer``.
 
 Headless Linux renders with EGL (``MUJOCO_GL=egl``, Debian package
@@ -14,6 +15,8 @@ Headless Linux renders with EGL (``MUJOCO_GL=egl``, Debian package
 
 from __future__ import annotations
 
+import contextlib
+import itertools
 import os
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
@@ -27,6 +30,7 @@ from tqdm import tqdm
 
 from locustjump import opengl, rundir
 from locustjump.errors import UserError, setting_ref
+from locustjump.present.video import RenderUnavailable, write_video
 from locustjump.rundir.config import from_table, terrains_from_table
 from locustjump.rundir.migrations import rules_summary
 from locustjump.sim import model as lm
@@ -48,10 +52,6 @@ TILE = (320, 240)
 #: frames per second of a reproduction's per-stage videos (a quarter of the
 #: 120 Hz control rate)
 VIDEO_FPS = 30.0
-
-
-class RenderUnavailable(UserError):
-    """Offscreen rendering or video encoding is not possible here."""
 
 
 @dataclass(frozen=True)
@@ -269,10 +269,7 @@ def frames(
     size: tuple[int, int] | None = None,
 ) -> Iterator[np.ndarray]:
     """RGB frames (h, w * k, 3) of ``pb`` at ``fps``, episodes side by side."""
-    if camera not in CAMERAS:
-        raise UserError(f"unknown camera {camera!r}; one of {', '.join(CAMERAS)}")
-    if not 0 < fps <= 1 / CONTROL_DT:
-        raise UserError(f"fps must be in (0, {1 / CONTROL_DT:g}], got {fps:g}")
+    check_options(fps, camera)
     k = pb.qpos.shape[0]
     width, height = size or ((640, 480) if k == 1 else TILE)
     m = lm.load_model(pb.model_params, pb.scene)
@@ -297,6 +294,14 @@ def frames(
         renderer.close()
 
 
+def check_options(fps: float, camera: str) -> None:
+    """One-line errors for a frame rate or camera that cannot be rendered."""
+    if camera not in CAMERAS:
+        raise UserError(f"unknown camera {camera!r}; one of {', '.join(CAMERAS)}")
+    if not 0 < fps <= 1 / CONTROL_DT:
+        raise UserError(f"fps must be in (0, {1 / CONTROL_DT:g}], got {fps:g}")
+
+
 def check_video_path(out: Path, *, force: bool = False) -> None:
     """One-line errors for an unsupported extension or an existing file."""
     if out.suffix.lower() not in VIDEO_SUFFIXES:
@@ -310,28 +315,6 @@ def check_video_path(out: Path, *, force: bool = False) -> None:
         )
     if not out.parent.is_dir():
         raise UserError(f"{out.parent}: no such directory")
-
-
-def _writer(path: Path, fps: float):
-    try:
-        import imageio.v2 as iio
-    except ImportError:
-        raise RenderUnavailable(
-            "video encoding needs imageio: pip install -e '.[video]' in the clone"
-        ) from None
-    if path.suffix.lower() == ".gif":
-        return iio.get_writer(path, mode="I", duration=1000.0 / fps, loop=0)
-    try:
-        import imageio_ffmpeg  # noqa: F401
-    except ImportError:
-        raise RenderUnavailable(
-            "mp4 needs imageio-ffmpeg: pip install -e '.[video]' in the clone "
-            "(or use .gif)"
-        ) from None
-    return iio.get_writer(
-        path, fps=fps, codec="libx264", quality=7, macro_block_size=16,
-        ffmpeg_log_level="quiet",  # its errors end as ours
-    )  # fmt: skip
 
 
 def render_video(
@@ -350,14 +333,7 @@ def render_video(
     size = TILE if out.suffix.lower() == ".gif" else None
     it = frames(pb, fps=fps, camera=camera, size=size)
     first = next(it)  # fails early (renderer) before a file is opened
-    with rundir.atomic_path(out, partial=".partial") as tmp:
-        open(tmp, "wb").close()  # an unwritable place is named here, not by ffmpeg
-        with _writer(tmp, fps) as w:
-            w.append_data(first)
-            for n, frame in enumerate(it, start=2):
-                w.append_data(frame)
-                if progress is not None:
-                    progress(n)
+    write_video(out, itertools.chain([first], it), fps, progress)
     return out
 
 
@@ -381,6 +357,8 @@ def render_run(
     ``label`` (default ``render`` and the file's name); ``elite``/``cell``: an
     elite of a quality-diversity run's archive (default
     ``DIR/elites/cell-I-J/video.mp4``)."""
+    check_options(fps, camera)  # before anything is made, simulated or shown
+    made: contextlib.AbstractContextManager[Path | None] = contextlib.nullcontext()
     if out is None:
         if not Path(path).is_dir():
             raise UserError(f"{path}: no such directory")
@@ -389,16 +367,15 @@ def render_run(
             _, _, chosen = rundir.load_elite(path, elite=elite, cell=cell)
             assert isinstance(chosen, rundir.Elite)
             out = rundir.elite_dir(Path(path), chosen.cell) / rundir.VIDEO
-        out.parent.mkdir(parents=True, exist_ok=True)
+        made = rundir.made_dir(out.parent)  # removed again if rendering fails
     out = Path(out)
-    check_video_path(out, force=force)
-    if camera not in CAMERAS:
-        raise UserError(f"unknown camera {camera!r}; one of {', '.join(CAMERAS)}")
-    with rundir.locked(out.parent):  # the directory written into
-        check_video_path(out, force=force)  # another process was first?
-        pb = playback_of(path, backend=backend, scene=scene, elite=elite, cell=cell)
-        label = f"render {out.name}" if label is None else label
-        return _encode(pb, out, fps, camera, force, label if progress else None)
+    with made:
+        check_video_path(out, force=force)
+        with rundir.locked(out.parent):  # the directory written into
+            check_video_path(out, force=force)  # another process was first?
+            pb = playback_of(path, backend=backend, scene=scene, elite=elite, cell=cell)
+            label = f"render {out.name}" if label is None else label
+            return _encode(pb, out, fps, camera, force, label if progress else None)
 
 
 def _encode(

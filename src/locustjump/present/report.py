@@ -326,6 +326,6 @@ def _write_report(d: Path, backend: Backend | None, page: Path) -> Path:
         raise UserError(f"{d}: holds no run (no {rundir.CONFIG}) and no reproduction")
     # a reproduction's results.md brings its own heading
     heading = not (rundir.is_reproduction(d) or rundir.is_multiseed(d))
-    page.parent.mkdir(parents=True, exist_ok=True)
-    rundir.atomic_write_text(page, _page(title, "\n".join(body), heading=heading))
+    with rundir.made_dir(page.parent):  # removed again if the write fails
+        rundir.atomic_write_text(page, _page(title, "\n".join(body), heading=heading))
     return page

@@ -72,6 +72,7 @@ from locustjump.rundir.metrics import (
 )
 from locustjump.rundir.outputs import (
     check_out_dir,
+    made_dir,
     make_dir,
     output_dir,
     output_file,

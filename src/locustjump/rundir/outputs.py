@@ -83,9 +83,10 @@ def prepare_out_file(
     return out
 
 
-def make_dir(out: Path, setting: str = "out") -> Path | None:
-    """Create directory ``out`` and its missing parents; the topmost one made
-    (``None`` if it existed), for :func:`remove_made`."""
+def make_dir(out: Path, setting: str | None = "out") -> Path | None:
+    """Create directory ``out`` (the setting ``setting``, if the user named
+    it) and its missing parents; the topmost one made (``None`` if it
+    existed), for :func:`remove_made`."""
     top = None
     p = out
     while not os.path.lexists(p) and p != p.parent:
@@ -93,9 +94,8 @@ def make_dir(out: Path, setting: str = "out") -> Path | None:
     try:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as e:
-        raise UserError(
-            f"{setting_ref(setting)} {out}: cannot be created ({e.strerror})"
-        ) from None
+        where = f"{setting_ref(setting)} {out}" if setting else f"{out}"
+        raise UserError(f"{where}: cannot be created ({e.strerror})") from None
     return top
 
 
@@ -103,6 +103,19 @@ def remove_made(top: Path | None) -> None:
     """Remove what :func:`make_dir` made (and everything written into it)."""
     if top is not None:
         shutil.rmtree(top, ignore_errors=True)
+
+
+@contextlib.contextmanager
+def made_dir(out: Path, setting: str | None = None) -> Iterator[Path]:
+    """Directory ``out``, created with its missing parents if need be
+    (:func:`make_dir`); what was created here is removed again if the body
+    fails (a full disk, Ctrl-C), with what was written into it."""
+    top = make_dir(Path(out), setting)
+    try:
+        yield Path(out)
+    except BaseException:
+        remove_made(top)
+        raise
 
 
 @contextlib.contextmanager

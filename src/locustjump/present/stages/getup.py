@@ -106,7 +106,6 @@ class GetUpReporter(Reporter):
 def write_sweep(run: Path, sw: Sweep) -> list[Path]:
     """``run/sweep/sweep.csv`` and ``sweep.png`` of a sweep."""
     out = run / rundir.SWEEP
-    out.mkdir(exist_ok=True)
     table = np.column_stack(
         [sw.roll_deg, sw.training, sw.success, sw.start_uz, sw.final_uz,
          sw.time_to_get_up_s]
@@ -122,8 +121,9 @@ def write_sweep(run: Path, sw: Sweep) -> list[Path]:
             fmt=["%.6g", "%d", "%d", "%.6f", "%.6f", "%.6g"],
         )
 
-    rundir.atomic_write_bytes(out / rundir.SWEEP_CSV, write)
-    sweep_figure(out / rundir.SWEEP_PNG, sw)
+    with rundir.made_dir(out):  # removed again if a write fails
+        rundir.atomic_write_bytes(out / rundir.SWEEP_CSV, write)
+        sweep_figure(out / rundir.SWEEP_PNG, sw)
     return [out / rundir.SWEEP_CSV, out / rundir.SWEEP_PNG]
 
 
@@ -148,5 +148,5 @@ def sweep_run(
     with held:  # in the run: from the simulation to the last file
         sw = sweep_getup(best.genome, cfg.model, angles, backend=backend,
                          engine=cfg.engine, scene=scene or cfg.scene.scene)  # fmt: skip
-        dest.mkdir(parents=True, exist_ok=True)
-        return sw, write_sweep(dest, sw)
+        with rundir.made_dir(dest):
+            return sw, write_sweep(dest, sw)
