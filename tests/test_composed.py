@@ -362,7 +362,7 @@ def test_replay_resimulates_every_stage(reproduction, tmp_path, capsys):
 
 
 def test_reproduce_renders_a_video_per_stage(reproduction, tmp_path):
-    pytest.importorskip("imageio", reason="extra locustjump[video] not installed")
+    pytest.importorskip("imageio_ffmpeg", reason="extra locustjump[video] missing")
     from locustjump.runs.reproduce import STAGES, render_videos
 
     logs: list[str] = []

@@ -12,7 +12,7 @@ from locustjump.cli import main
 from locustjump.present import render
 from locustjump.sim import names
 
-iio = pytest.importorskip("imageio.v2", reason="extra locustjump[video] not installed")
+iio = pytest.importorskip("imageio.v2", reason="extra locustjump[test] not installed")
 
 
 def _frames(path):
