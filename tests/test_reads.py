@@ -333,3 +333,30 @@ def test_a_best_genome_saved_before_a_lost_checkpoint_is_kept(tmp_path, capsys):
     shutil.copy(ref / rundir.BEST, out / rundir.BEST)
     assert main(_argv(out, 6, "--resume")) == 0
     assert_same_run(ref, out)
+
+
+# -- a reproduction's marker is one a locustjump wrote ---------------------------
+
+
+@pytest.mark.parametrize(
+    ("marker", "text", "needle"),
+    [
+        (rundir.MARKER, 'budget = "quick"\n',
+         "missing seed, population, generations, command, locustjump"),
+        (rundir.SEEDS_MARKER, 'budget = "quick"\n', "missing population"),
+        (rundir.MARKER, 'budget = "quick"\nseed = 0\npopulation = 50\n'
+         'generations = 5\ncommand = ""\nlocustjump = ""\n',
+         "generations must be a table of each stage's generations, got '5'"),
+    ],
+)  # fmt: skip
+def test_a_marker_no_reproduction_wrote_is_refused(
+    tmp_path, capsys, marker, text, needle
+):
+    """``budget = "demo"`` alone ran every stage and then failed on a
+    KeyError (exit 1)."""
+    rep = tmp_path / "rep"
+    rep.mkdir()
+    (rep / marker).write_text(text)
+    seeds = ["--seeds", "0,1"] if marker == rundir.SEEDS_MARKER else []
+    _refused(["reproduce", "--budget", "quick", "--out", str(rep), *seeds],
+             capsys, f"{rep / marker}: {needle}", tmp_path)  # fmt: skip

@@ -20,6 +20,7 @@ import numpy as np
 from locustjump import rundir
 from locustjump.present.render import VIDEO_FPS
 from locustjump.present.stages import Claim, reporter_of
+from locustjump.rundir.migrations import check_marker
 
 
 def stage_summary(d: Path) -> dict[str, Any]:
@@ -48,7 +49,7 @@ def results_markdown(out: Path) -> str:
     keys of ``reproduce.toml``'s ``generations`` table, in order."""
 
     out = Path(out)
-    marker = rundir.read_toml(out / rundir.MARKER)
+    marker = check_marker(rundir.read_toml(out / rundir.MARKER), out / rundir.MARKER)
     stages = list(marker["generations"])
     videos = [rundir.RULES_DIR, *stages]
     rules = rundir.read_json(out / rundir.RULES_DIR / rundir.RULES_SUMMARY)
@@ -272,7 +273,8 @@ def seeds_markdown(out: Path) -> str:
     paper the median, range and count of seeds that reproduce it; per stage the
     best fitness; the behaviours' own sections; each seed's claims."""
     out = Path(out)
-    marker = rundir.read_toml(out / rundir.SEEDS_MARKER)
+    path = out / rundir.SEEDS_MARKER
+    marker = check_marker(rundir.read_toml(path), path)
     seeds, stages = marker["seeds"], list(marker["generations"])
     behaviours = {s: reporter_of(s) for s in stages}
     info: dict[int, dict[str, dict[str, Any]]] = {

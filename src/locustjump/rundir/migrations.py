@@ -54,7 +54,7 @@ from typing import Any
 import numpy as np
 
 from locustjump.errors import UserError
-from locustjump.rundir.layout import FORMAT, FROZEN
+from locustjump.rundir.layout import FORMAT, FROZEN, SEEDS_MARKER
 from locustjump.sim.params import LocustParams
 
 #: version of ``config.toml`` this locustjump writes
@@ -219,6 +219,49 @@ def checkpoint_state(z: dict[str, np.ndarray], path: Path) -> dict[str, np.ndarr
     if missing:
         raise UserError(f"{path}: missing {', '.join(missing)}")
     return {k: z[k] for k in RCGA_STATE_BEFORE}
+
+
+#: what every reproduction's marker has held since the first, and in what
+#: form (``seeds.toml``: ``seeds``, a list, for ``seed``, and ``optimizer``)
+MARKER_KEYS = {
+    "budget": (str, "a budget's name"),
+    "seed": (int, "a seed"),
+    "population": (int, "an integer"),
+    "generations": (dict, "a table of each stage's generations"),
+    "command": (str, "the command"),
+    "locustjump": (str, "the version"),
+}
+
+
+def _is(value: Any, kind: type) -> bool:
+    return isinstance(value, kind) and not isinstance(value, bool)
+
+
+def check_marker(table: dict[str, Any], path: Path) -> dict[str, Any]:
+    """A ``reproduce.toml`` or ``seeds.toml`` table as every locustjump has
+    written one (``UserError`` naming the file and the key otherwise: a
+    marker no locustjump wrote, for a directory no reproduction made)."""
+    keys = dict(MARKER_KEYS)
+    if Path(path).name == SEEDS_MARKER:
+        del keys["seed"]
+        keys["seeds"] = (list, "a list of seeds")
+        keys["optimizer"] = (str, "an optimizer's name")
+    missing = [k for k in keys if k not in table]
+    if missing:
+        raise UserError(
+            f"{path}: missing {', '.join(missing)} (every reproduction's marker "
+            "holds them: a directory no reproduction made?)"
+        )
+    for key, (kind, words) in keys.items():
+        v = table[key]
+        ok = _is(v, kind)
+        if ok and kind is dict:
+            ok = all(_is(n, int) and n >= 1 for n in v.values())
+        elif ok and kind is list:
+            ok = all(_is(s, int) and s >= 0 for s in v)
+        if not ok:
+            raise UserError(f"{path}: {key} must be {words}, got {str(v)[:60]!r}")
+    return table
 
 
 def reproduction_marker(table: dict[str, Any]) -> dict[str, Any]:

@@ -30,7 +30,7 @@ from locustjump.present.evaluate import HELD_OUT_SEEDS, evaluate_run, evaluate_t
 from locustjump.present.rules import write_rules_run
 from locustjump.present.stages import reporter_of
 from locustjump.rundir.config import TrainConfig, scene_table, terrains_from_table
-from locustjump.rundir.migrations import reproduction_marker
+from locustjump.rundir.migrations import check_marker, reproduction_marker
 from locustjump.runs.trainer import train
 from locustjump.sim import model as lm
 from locustjump.sim.engine.job import DEFAULT_ENGINE, ENGINES
@@ -361,7 +361,7 @@ def _read_marker(path: Path) -> dict[str, Any]:
     """A marker's table, older ones as they were meant ({} if there is none)."""
     if not os.path.lexists(path):
         return {"scene": scene_table(Terrains())}
-    table = rundir.read_toml(path)
+    table = check_marker(rundir.read_toml(path), path)
     if path.name == rundir.MARKER:
         return reproduction_marker(table)
     return {"scene": scene_table(Terrains()), **table}  # before scenes: flat
