@@ -184,3 +184,86 @@ def test_a_ctrl_c_that_a_c_callback_swallowed_while_loading_still_stops(
     err = capsys.readouterr().err
     assert err == "locustjump: interrupted (nothing was written)\n"
     assert sys.unraisablehook is before  # put back
+
+
+def test_the_command_line_loads_nothing_heavy_before_it_can_answer_signals():
+    """Until ``main`` installs its handlers, a signal ends the process in a
+    traceback (Ctrl-C) or without a word (SIGTERM): what runs before is
+    Python's start and ``import locustjump.cli`` only, which must stay light
+    (it spawned ldconfig and imported PyOpenGL: 0.05-0.25 s)."""
+    heavy = ("mujoco", "numpy", "OpenGL", "ctypes.util", "importlib.abc")
+    r = subprocess.run(
+        [sys.executable, "-c", "import sys, locustjump.cli; "
+         f"print([m for m in {heavy!r} if m in sys.modules])"],
+        capture_output=True, text=True, check=True,
+    )  # fmt: skip
+    assert r.stdout.strip() == "[]", r.stdout
+
+
+class _InterruptedInit:
+    """A meta path finder: importing ``name`` gets a real SIGTERM, which a C
+    extension initialising then (MuJoCo's) turns into ``ImportError``."""
+
+    def __init__(self, name: str):
+        self.name = name
+
+    def find_spec(self, fullname, path=None, target=None):
+        if fullname != self.name:
+            return None
+        try:
+            os.kill(os.getpid(), signal.SIGTERM)
+            time.sleep(1)  # the handler runs here
+        except KeyboardInterrupt:
+            raise ImportError("initialization failed") from None
+        raise AssertionError("no signal came")
+
+
+def test_a_signal_that_an_extension_turned_into_an_error_still_stops(
+    monkeypatch, capsys
+):
+    """Ctrl-C or SIGTERM while MuJoCo's extension initialised: 34 lines of
+    traceback, exit 1. Now one line and 130, while loading or in a command."""
+    before = signal.getsignal(signal.SIGTERM)
+    monkeypatch.delitem(sys.modules, "locustjump.cli.dispatch", raising=False)
+    monkeypatch.setattr(sys, "meta_path", [_InterruptedInit("locustjump.cli.dispatch"),
+                                           *sys.meta_path])  # fmt: skip
+    assert main(["model", "--out", "never.xml"]) == 130
+    assert capsys.readouterr().err == "locustjump: interrupted (nothing was written)\n"
+    assert signal.getsignal(signal.SIGTERM) is before  # put back
+    monkeypatch.undo()
+    import locustjump.cli.commands as commands
+
+    def lazy_import(args):
+        import imageio_never_installed  # noqa: F401
+
+    monkeypatch.setattr(commands, "cmd_model", lazy_import)
+    monkeypatch.setattr(sys, "meta_path", [_InterruptedInit("imageio_never_installed"),
+                                           *sys.meta_path])  # fmt: skip
+    assert main(["model", "--out", "never.xml"]) == 130
+    err = capsys.readouterr().err
+    assert err == "locustjump: interrupted (nothing was half-written)\n", err
+
+
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM])
+def test_a_signal_after_the_last_line_does_not_end_a_finished_command(tmp_path, sig):
+    """The command had printed 'wrote ...' and its files were complete; a
+    signal during the interpreter's exit killed it without a word (SIGTERM:
+    status -15) or with a traceback. Now it exits with the command's status,
+    saying so if the signal came before its last exit handler (or, landing
+    before the command returned, as any interrupt: 130, one line)."""
+    out = tmp_path / "m.xml"
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "locustjump.cli", "model", "--out", str(out)],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+        preexec_fn=_default_sigint,
+    )  # fmt: skip
+    assert proc.stdout.readline().startswith(f"wrote {out}")
+    proc.send_signal(sig)
+    _, err = proc.communicate(timeout=60)
+    assert (proc.returncode, err) in (
+        (0, ""),
+        (0, "locustjump: signal received while exiting; the command had ended "
+            "(exit status 0)\n"),
+        (130, "locustjump: interrupted (nothing was half-written)\n"),
+    ), (proc.returncode, err)  # fmt: skip
+    assert out.is_file()

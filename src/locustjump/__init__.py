@@ -8,7 +8,7 @@ MuJoCo and a real-coded genetic algorithm.
 # Offscreen rendering: choose MuJoCo's OpenGL back end before anything imports
 # mujoco (EGL on a headless Linux machine; a back end whose library is missing
 # is switched off, so that only rendering fails, in one line).
-# Importing it chooses the back end.
+# Importing it has the back end chosen when mujoco is first imported.
 from locustjump import opengl as _opengl  # noqa: F401
 
 # isort: split

@@ -5,8 +5,9 @@ MuJoCo reads ``MUJOCO_GL`` when it is first imported and, for ``osmesa`` and
 library is missing (``MUJOCO_GL=osmesa`` without ``libosmesa6``), PyOpenGL
 fails with an ``AttributeError`` that MuJoCo does not catch, so *every* import
 of ``mujoco`` would die — every command, even ``locustjump --help``, though
-only rendering needs OpenGL. :func:`choose` runs when this module is
-imported, which the package's ``__init__`` does first: it picks EGL on a
+only rendering needs OpenGL. :func:`choose` runs when ``mujoco`` is first
+imported, wherever that is (a finder on ``sys.meta_path`` that this module
+installs, and the package's ``__init__`` imports it first): it picks EGL on a
 headless Linux machine where the user chose nothing, and it tries the chosen
 back end's OpenGL imports itself; if they fail, it switches MuJoCo's rendering
 off (``MUJOCO_GL=disable``) and keeps the reason in :data:`PROBLEM`, which
@@ -15,7 +16,7 @@ rendering reports in one line.
 
 from __future__ import annotations
 
-import ctypes.util
+import ctypes
 import importlib
 import os
 import sys
@@ -46,6 +47,18 @@ def _purge_pyopengl() -> None:
         del sys.modules[name]
 
 
+def _loads(name: str) -> bool:
+    """Whether shared library ``name`` can be loaded (as PyOpenGL loads it;
+    ``ctypes.util.find_library`` runs ``ldconfig`` in a subprocess, which
+    took up to 0.2 s of the command line's start, before it can answer
+    Ctrl-C)."""
+    try:
+        ctypes.CDLL(name)
+    except OSError:
+        return False
+    return True
+
+
 def choose() -> str | None:
     """Set ``MUJOCO_GL`` before MuJoCo is imported; returns :data:`PROBLEM`.
 
@@ -58,7 +71,7 @@ def choose() -> str | None:
     if "mujoco" in sys.modules:
         return PROBLEM
     if "MUJOCO_GL" not in os.environ and _headless_linux():
-        if ctypes.util.find_library("EGL"):
+        if _loads("libEGL.so.1"):
             os.environ["MUJOCO_GL"] = "egl"
     gl = os.environ.get("MUJOCO_GL", "").lower().strip()
     platform = os.environ.get("PYOPENGL_PLATFORM", "")
@@ -86,4 +99,27 @@ def choose() -> str | None:
     return PROBLEM
 
 
-choose()
+class _BeforeMuJoCo:
+    """A meta path finder (``importlib.abc.MetaPathFinder``, whose import
+    costs more than the rest of ``import locustjump``) that runs
+    :func:`choose` when ``mujoco`` is first imported, and finds nothing
+    itself: the import goes on as if it were not there."""
+
+    def find_spec(self, name, path=None, target=None):
+        if name == "mujoco":
+            choose()
+        return None
+
+
+def install() -> None:
+    """:func:`choose` before MuJoCo is first imported, wherever that import
+    is: not when ``locustjump`` is imported, so that ``import locustjump``
+    stays light (the command line handles Ctrl-C only once it runs, and
+    choosing takes PyOpenGL's imports)."""
+    if "mujoco" in sys.modules:
+        choose()  # too late to choose: records the problem, if any
+    elif not any(isinstance(f, _BeforeMuJoCo) for f in sys.meta_path):
+        sys.meta_path.insert(0, _BeforeMuJoCo())
+
+
+install()

@@ -10,16 +10,11 @@ status 1 (``--debug``: the traceback on stderr). See
 
 from __future__ import annotations
 
-import signal
+import contextlib
 import sys
 from collections.abc import Sequence
 
-from locustjump.cli import console
-
-
-def _interrupt(signum, frame) -> None:
-    raise KeyboardInterrupt
-
+from locustjump.cli import console, interrupts
 
 #: Ctrl-Cs that landed inside a callback from C (Numba's compiler calls
 #: llvmlite's object cache through ctypes), where Python can only report them
@@ -34,25 +29,47 @@ def _unraisable(info) -> None:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    # before the library loads: what it logs while loading is shown too
-    console.configure(debug="--debug" in (sys.argv[1:] if argv is None else argv))
-    previous = signal.signal(signal.SIGTERM, _interrupt)  # stop as on Ctrl-C
+    """``locustjump ARGV`` (default: the program's arguments): its exit
+    status. Called as the program (no ``argv``), a signal after the command
+    ended only ends the exit (:mod:`.interrupts`); called with ``argv``, the
+    signal handlers are put back on return."""
+    program = argv is None
+    interrupts.install(program=program)  # SIGTERM stops as Ctrl-C does
     hook, sys.unraisablehook = sys.unraisablehook, _unraisable
+    status = 1
     try:
+        # before the library loads: what it logs while loading is shown too
+        console.configure(debug="--debug" in (sys.argv[1:] if program else argv))
         # imported on call, not at the top: loading MuJoCo, Numba and
         # Matplotlib takes a second or more, and a Ctrl-C meanwhile must end
         # like any other, in one line, not in a traceback
-        from locustjump.cli.dispatch import dispatch
-
+        try:
+            from locustjump.cli.dispatch import dispatch
+        except Exception:
+            if not interrupts.received():
+                raise
+            # a Ctrl-C inside an extension's initialisation comes out as its
+            # ImportError
+            raise KeyboardInterrupt from None
         if _swallowed:
             raise KeyboardInterrupt
-        return dispatch(argv)
+        status = dispatch(argv)
+    except SystemExit as e:  # argparse's errors and --help
+        status = e.code if isinstance(e.code, int) else 1
+        raise
     except KeyboardInterrupt:  # before the command began
         print("locustjump: interrupted (nothing was written)", file=sys.stderr)
-        return 130
+        status = 130
     finally:
-        signal.signal(signal.SIGTERM, previous)
+        interrupts.finished(status)
         sys.unraisablehook = hook
+        if program:  # what it printed is out before the exit begins
+            for stream in (sys.stdout, sys.stderr):
+                with contextlib.suppress(OSError, ValueError):
+                    stream.flush()
+        else:
+            interrupts.restore()
+    return status
 
 
 if __name__ == "__main__":

@@ -19,6 +19,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from locustjump import plugins, rundir
+from locustjump.cli import interrupts
 from locustjump.cli.flags import speller
 from locustjump.cli.parser import build_parser
 from locustjump.errors import UserError
@@ -122,6 +123,11 @@ def dispatch(argv: Sequence[str] | None = None) -> int:
         print(f"locustjump: interrupted ({_how_to_continue(args)})", file=sys.stderr)
         return 130
     except Exception as e:
+        if interrupts.received():  # a Ctrl-C that C code turned into an error
+            print(
+                f"locustjump: interrupted ({_how_to_continue(args)})", file=sys.stderr
+            )
+            return 130
         if debug:
             traceback.print_exc()
         if isinstance(e, UserError):  # the settings it names as our options
