@@ -125,6 +125,23 @@ def test_runs_of_several_behaviours_only_by_behaviour(runs, tmp_path):
         assert exit_status(["compare", str(other), "--by", bad]) == 2
 
 
+def test_runs_of_several_scenes_only_by_scene(runs, tmp_path, capsys):
+    """A debris run and a flat run were pooled into one sample."""
+    from locustjump.sim.scene import Terrains, scene_class
+
+    debris = [tmp_path / f"debris-{s}" for s in (0, 1)]
+    for seed, d in enumerate(debris):  # each on its own terrains: one scene
+        scene = Terrains(scene_class("debris")(seed=1000 + 4 * seed))
+        train(TrainConfig("kick", seed, 1, params_class("rcga")(population=4),
+                          scene=scene), d, progress=False)  # fmt: skip
+    assert len(load_groups(debris)[0].runs) == 2
+    assert exit_status(["compare", str(runs["rcga"][0]), *map(str, debris)]) == 2
+    err = capsys.readouterr().err
+    assert "the runs trained in several scenes (debris, flat)" in err, err
+    groups = load_groups([runs["rcga"][0], *debris], by="scene")
+    assert [(g.label, len(g.runs)) for g in groups] == [("flat", 1), ("debris", 2)]
+
+
 def test_optimizer_labels_name_the_settings_that_differ():
     from locustjump.present.compare import optimizer_label
 

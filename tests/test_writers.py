@@ -176,3 +176,33 @@ def test_two_reproductions_at_once(tmp_path):
             p.wait(timeout=120)
     first = next(p for p in procs if p is not second)
     assert first.returncode == 130 and "rerun the same command" in first.stderr.read()
+
+
+def test_a_commands_output_is_never_one_of_a_runs_own_files(tmp_path, capsys):
+    """``report --out RUN/metrics.csv --force`` and ``model --out
+    RUN/config.toml --force`` overwrote the run's own files."""
+    run = tmp_path / "run"
+    assert main(_small(run)) == 0
+    before = {p.name: p.read_bytes() for p in run.iterdir() if p.is_file()}
+    for argv in (
+        ["report", str(run), "--out", str(run / rundir.METRICS)],
+        ["model", "--out", str(run / rundir.CONFIG)],
+        ["compare", str(run), "--figure", str(run / rundir.BEST)],
+    ):
+        capsys.readouterr()
+        assert main([*argv, "--force"]) == 2
+        err = capsys.readouterr().err
+        assert "one of the files of the run in" in err and len(err.splitlines()) == 1
+        assert {p.name: p.read_bytes() for p in run.iterdir() if p.is_file()} == before
+    # a file of the same name elsewhere is any file
+    assert main(["model", "--out", str(tmp_path / rundir.CONFIG)]) == 0
+
+
+def test_a_name_as_long_as_the_directory_allows_is_written(tmp_path, capsys):
+    """A valid 254-byte name was refused: the temporary file's name beside it
+    was longer than 255 bytes."""
+    out = tmp_path / ("m" * 250 + ".xml")
+    assert main(["model", "--out", str(out)]) == 0, capsys.readouterr().err
+    assert out.is_file() and [p.name for p in tmp_path.iterdir()] == [out.name]
+    assert rundir.files.temporary_path(out).name.startswith(".")
+    assert len(rundir.files.temporary_path(out).name) < 255

@@ -34,7 +34,7 @@ from locustjump.present.stats import Sample, compare_samples, interval_text, p_t
 TOTAL_LABEL = "genome evaluations, the frozen simple runs' included"
 
 #: config keys a comparison may group by
-KEYS = ("optimizer", "engine", "behaviour", "seed")
+KEYS = ("optimizer", "engine", "behaviour", "seed", "scene")
 
 
 @dataclass(frozen=True)
@@ -63,6 +63,21 @@ def optimizer_label(params) -> str:
     return params.kind + (f"({', '.join(changed)})" if changed else "")
 
 
+def scene_label(terrains) -> str:
+    """The world a run trained in, its terrain seeds aside: the scene's kind
+    with the parameters that differ from its defaults, and ``min`` when its
+    terrains' fitness was their worst: ``flat``, ``debris``,
+    ``debris(wall_height=0.1)``, ``debris min``."""
+    scene = terrains.scene
+    changed = [
+        f"{f.name}={getattr(scene, f.name)}"
+        for f in dataclasses.fields(scene)
+        if f.name != "seed" and getattr(scene, f.name) != f.default
+    ]
+    label = scene.name + (f"({', '.join(changed)})" if changed else "")
+    return label + ("" if terrains.aggregate == "mean" else f" {terrains.aggregate}")
+
+
 def _key(cfg, by: str) -> str:
     if "," in by:
         return " / ".join(_key(cfg, k) for k in by.split(","))
@@ -70,6 +85,8 @@ def _key(cfg, by: str) -> str:
         return optimizer_label(cfg.optimizer)
     if by == "engine":
         return cfg.engine
+    if by == "scene":
+        return scene_label(cfg.scene)
     return str(getattr(cfg, by))
 
 
@@ -110,7 +127,9 @@ def load_groups(
     joined by commas: ``behaviour,optimizer``), in the order each value first
     appears. Every run must be of one behaviour, unless
     grouped by behaviour (then theirs must be one fitness: composed and
-    monolithic, kick and kick-open, ...). With ``total_budget`` a run's
+    monolithic, kick and kick-open, ...), and trained in one scene
+    (:func:`scene_label`: its terrain seeds may differ), unless grouped by
+    scene. With ``total_budget`` a run's
     evaluations include those of the frozen runs it builds on
     (:func:`frozen_evaluations`): its curve starts where they end."""
     keys = by.split(",")
@@ -122,12 +141,13 @@ def load_groups(
     if not dirs:
         raise UserError("compare needs at least one run directory")
     found: dict[str, list] = {}
-    behaviours = set()
+    behaviours, scenes = set(), set()
     for d in map(Path, dirs):
         if not rundir.is_run(d):
             raise UserError(f"{d}: holds no run (no {rundir.CONFIG})")
         cfg, _, best = rundir.load_run(d)
         behaviours.add(cfg.behaviour)
+        scenes.add(scene_label(cfg.scene))
         m = rundir.read_metrics(d / rundir.METRICS)
         if not len(m):
             raise UserError(f"{d / rundir.METRICS}: holds no generation yet")
@@ -141,6 +161,12 @@ def load_groups(
         raise UserError(
             f"the runs are of several behaviours ({', '.join(sorted(behaviours))}); "
             "compare runs of one"
+        )
+    if len(scenes) > 1 and "scene" not in keys:
+        raise UserError(
+            f"the runs trained in several scenes ({', '.join(sorted(scenes))}): "
+            "their fitness is not one sample; compare runs of one, or group "
+            f"them with {setting_ref('by')} scene"
         )
     return [
         Group(

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import contextlib
+import hashlib
 import json
 import os
 from collections.abc import Callable, Iterator
@@ -15,13 +16,30 @@ import tomli_w
 from locustjump.errors import UserError
 
 
+def temporary_path(path: Path, partial: str = ".tmp") -> Path:
+    """Where :func:`atomic_path` writes ``path`` first: ``.<stem><partial>
+    <suffix>`` beside it, or, where that name would be longer than the
+    directory allows a name (``path``'s own may be as long), a digest of
+    ``path``'s name in place of its stem."""
+    name = f".{path.stem}{partial}{path.suffix}"
+    try:
+        limit = os.pathconf(path.parent, "PC_NAME_MAX")
+    except (OSError, ValueError):
+        limit = 255  # Linux's NAME_MAX
+    if len(os.fsencode(name)) > limit:
+        digest = hashlib.sha256(os.fsencode(path.name)).hexdigest()[:16]
+        suffix = path.suffix if len(os.fsencode(path.suffix)) <= 32 else ""
+        name = f".{digest}{partial}{suffix}"
+    return path.with_name(name)
+
+
 @contextlib.contextmanager
 def atomic_path(path: Path, *, partial: str = ".tmp") -> Iterator[Path]:
     """A temporary path beside ``path`` to write into; on success it is
     fsynced and renamed onto ``path`` (readers see the old file or the new one,
     never half of one), on failure removed."""
     path = Path(path)
-    tmp = path.with_name(f".{path.stem}{partial}{path.suffix}")
+    tmp = temporary_path(path, partial)
     try:
         yield tmp
         with open(tmp, "rb+") as f:

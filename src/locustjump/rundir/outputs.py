@@ -18,7 +18,28 @@ from collections.abc import Iterator
 from pathlib import Path
 
 from locustjump.errors import UserError, setting_ref
+from locustjump.rundir import layout
 from locustjump.rundir.lock import locked
+from locustjump.rundir.migrations import FROZEN_BEFORE
+
+#: the files that make a directory what it is (a run, a reproduction, a
+#: rule-based run): never a command's output, even with ``--force``
+RECORDS = (
+    layout.CONFIG, layout.METRICS, layout.CHECKPOINT, layout.BEST, layout.FROZEN,
+    FROZEN_BEFORE, layout.STOP, layout.MARKER, layout.SEEDS_MARKER,
+    layout.RULES_SUMMARY, layout.TRAJECTORY_CSV,
+)  # fmt: skip
+
+
+def _holder(d: Path) -> str | None:
+    """What directory ``d`` holds, if it is one whose :data:`RECORDS` these are."""
+    for test, what in ((layout.is_run, "run"),
+                       (layout.is_reproduction, "reproduction"),
+                       (layout.is_multiseed, "reproduction"),
+                       (layout.is_rules_run, "rule-based run")):  # fmt: skip
+        if test(d):
+            return what
+    return None
 
 
 def _exists(out: Path, setting: str) -> bool:
@@ -79,6 +100,13 @@ def prepare_out_file(
     if not _exists(out.parent, setting) or not out.parent.is_dir():
         raise UserError(
             f"{setting_ref(setting)} {out}: directory {out.parent} does not exist"
+        )
+    holder = _holder(out.parent) if out.name in RECORDS else None
+    if holder is not None:
+        raise UserError(
+            f"{setting_ref(setting)} {out}: one of the files of the {holder} in "
+            f"{out.parent} (never overwritten, even with "
+            f"{setting_ref('force', True)}); choose another file"
         )
     return out
 
