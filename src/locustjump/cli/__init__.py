@@ -39,7 +39,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     status = 1
     try:
         # before the library loads: what it logs while loading is shown too
-        console.configure(debug="--debug" in (sys.argv[1:] if program else argv))
+        console.configure(debug="--debug" in (sys.argv[1:] if argv is None else argv))
         # imported on call, not at the top: loading MuJoCo, Numba and
         # Matplotlib takes a second or more, and a Ctrl-C meanwhile must end
         # like any other, in one line, not in a traceback

@@ -19,16 +19,19 @@ from __future__ import annotations
 import atexit
 import os
 import signal
+from collections.abc import Callable
+from types import FrameType
 
 #: the signals that stop a command
 SIGNALS = (signal.SIGINT, signal.SIGTERM)
 
 _received: list[int] = []
 _status: list[int] = []  # the command's exit status, once it has ended
-_previous: dict[int, object] = {}
+_Handler = Callable[[int, FrameType | None], object] | int | None
+_previous: dict[int, _Handler] = {}
 
 
-def _handler(signum: int, frame: object) -> None:
+def _handler(signum: int, frame: FrameType | None) -> None:
     if _status:
         os.write(
             2,

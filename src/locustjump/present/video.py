@@ -53,7 +53,7 @@ def write_video(
     out: Path,
     frames: Iterator[np.ndarray],
     fps: float,
-    progress: Callable[[int], None] | None = None,
+    progress: Callable[[int], object] | None = None,
 ) -> None:
     """Encode RGB ``frames`` (h, w, 3 uint8) at ``fps`` into ``out`` (``.mp4``
     or ``.gif`` by its suffix) atomically; ``progress(n)`` after the n-th."""

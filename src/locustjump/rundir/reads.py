@@ -266,7 +266,7 @@ def _members(
     return members
 
 
-def _declared(path: Path, zf: zipfile.ZipFile, name: str, info) -> int:
+def _declared(path: Path, zf: zipfile.ZipFile, name: str, info: zipfile.ZipInfo) -> int:
     """The bytes of data member ``info``'s header declares (nothing inflated)."""
     with zf.open(info) as f:
         shape, dtype = _npy_header(f)

@@ -301,7 +301,7 @@ def load_run(
     return cfg, beh, load_best(out, cfg, beh.controller.num_params)
 
 
-def load_best(out: Path, cfg, num_params: int) -> BestGenome:
+def load_best(out: Path, cfg: TrainConfig, num_params: int) -> BestGenome:
     """``best.npz`` of run directory ``out`` (configuration ``cfg``, genomes
     of ``num_params`` genes), checked (:meth:`BestGenome.load`) and of this
     run: its behaviour and config hash, a generation within the budget."""
