@@ -199,7 +199,10 @@ def test_reproduce_keeps_its_optimizer(tmp_path, capsys):
     another."""
     d = tmp_path / "repro"
     d.mkdir()
-    (d / rundir.MARKER).write_text('budget = "quick"\nseed = 0\n')
+    (d / rundir.MARKER).write_text(  # as results/long-seed0's, of 0.1.0
+        'budget = "quick"\nseed = 0\npopulation = 50\ncommand = "locustjump '
+        'reproduce"\nlocustjump = "0.1.0"\n[generations]\nkick = 30\n'
+    )
     before = (d / rundir.MARKER).read_bytes()
     assert main(["reproduce", "--optimizer", "cma", "--quiet", "--out", str(d)]) == 2
     err = capsys.readouterr().err
