@@ -40,7 +40,11 @@ parsed (:mod:`.reads`) and checked before anything is written: arrays
 """
 
 from locustjump.rundir.archive import has_archive, read_archive, write_archive
-from locustjump.rundir.checkpoint import read_checkpoint, write_checkpoint
+from locustjump.rundir.checkpoint import (
+    check_kept_best,
+    read_checkpoint,
+    write_checkpoint,
+)
 from locustjump.rundir.elites import Elite, load_elite
 from locustjump.rundir.files import (
     append_line,

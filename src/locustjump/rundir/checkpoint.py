@@ -5,6 +5,7 @@ was written and agrees with the run's ``config.toml``."""
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import numpy as np
@@ -13,7 +14,7 @@ from locustjump.errors import UserError
 from locustjump.rundir.arrays import genomes, plain, scalar
 from locustjump.rundir.config import TrainConfig
 from locustjump.rundir.files import save_npz
-from locustjump.rundir.layout import CONFIG, FORMAT
+from locustjump.rundir.layout import BEST, CHECKPOINT, CONFIG, FORMAT
 from locustjump.rundir.migrations import (
     RCGA_STATE_BEFORE,
     STATE_PREFIX,
@@ -21,7 +22,7 @@ from locustjump.rundir.migrations import (
     checkpoint_state,
 )
 from locustjump.rundir.reads import load_npz
-from locustjump.rundir.run import BestGenome
+from locustjump.rundir.run import BestGenome, load_best
 
 #: what a checkpoint holds beside its numbers, at most (bytes: names, the
 #: generator's state and the metrics row as text, headers)
@@ -138,3 +139,33 @@ def read_checkpoint(
             f"{row.strip()[:60]!r}"
         )
     return best, row, state
+
+
+def check_kept_best(
+    out: Path, cfg: TrainConfig, num_params: int, held: BestGenome | None, done: int
+) -> None:
+    """``best.npz`` of run directory ``out``, which a resumed run keeps,
+    checked as ``evaluate`` checks it (:func:`~.run.load_best`): it must be
+    the best genome ``held`` by the checkpoint of generation ``done``, or a
+    better one of the generation after it (saved before a checkpoint that a
+    kill stopped; the resumed run recomputes and rewrites it). Without a
+    checkpoint (``done`` 0) there may be none yet."""
+    path = out / BEST
+    if not os.path.lexists(path):
+        if done == 0:
+            return
+        raise UserError(f"{path}: missing, but {CHECKPOINT} holds {done} generations")
+    best = load_best(out, cfg, num_params)
+    same = held is not None and (
+        best.generation == held.generation
+        and best.fitness == held.fitness
+        and np.array_equal(best.genome, held.genome)
+    )
+    better = held is None or best.fitness > held.fitness
+    if not (same or (best.generation == done + 1 and better)):
+        had = "none" if held is None else f"generation {held.generation}'s"
+        raise UserError(
+            f"{path}: generation {best.generation}'s best (fitness "
+            f"{best.fitness:.6g}) is not the best genome {CHECKPOINT} holds "
+            f"({had}; nothing changed)"
+        )

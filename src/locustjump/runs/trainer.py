@@ -360,7 +360,9 @@ def _resume(out: Path, cfg: TrainConfig, backend: Backend, builds_on: bool) -> T
             "already done "
             f"{run.opt.generation} (a run can be extended, not shortened)"
         )
-    _check_best(run)
+    rundir.check_kept_best(
+        out, cfg, run.num_params, run.best, run.opt.generation
+    )  # as evaluate checks it
     _keep_metrics_columns(run)
     rundir.truncate_metrics(
         out / rundir.METRICS, run.opt.generation, run.metrics_row, run.diagnostics
@@ -368,38 +370,6 @@ def _resume(out: Path, cfg: TrainConfig, backend: Backend, builds_on: bool) -> T
     if stored.generations != cfg.generations:
         rundir.write_config(out / rundir.CONFIG, cfg)
     return run
-
-
-def _check_best(run: Trainer) -> None:
-    """``best.npz``, kept by the resumed run, is checked as ``evaluate``
-    checks it, and must be the checkpoint's best genome, or the better one of
-    the generation after it (saved before a checkpoint that a kill stopped;
-    the resumed run recomputes and rewrites it). With no checkpoint there may
-    be none yet."""
-    path = run.out / rundir.BEST
-    done = run.opt.generation
-    if not os.path.lexists(path) and done == 0:
-        return
-    if not os.path.lexists(path):
-        raise UserError(
-            f"{path}: missing, but {rundir.CHECKPOINT} holds {done} generations"
-        )
-    best = rundir.load_best(run.out, run.cfg, run.num_params)
-    mine = run.best
-    same = mine is not None and (
-        best.generation == mine.generation
-        and best.fitness == mine.fitness
-        and np.array_equal(best.genome, mine.genome)
-    )
-    better = mine is None or best.fitness > mine.fitness
-    ahead = best.generation == done + 1 and better
-    if not (same or ahead):
-        held = "none" if mine is None else f"generation {mine.generation}'s"
-        raise UserError(
-            f"{path}: generation {best.generation}'s best (fitness "
-            f"{best.fitness:.6g}) is not the best genome {rundir.CHECKPOINT} "
-            f"holds ({held}; nothing changed)"
-        )
 
 
 def _differences(
