@@ -5,12 +5,14 @@ was written and agrees with the run's ``config.toml``."""
 
 from __future__ import annotations
 
+import math
 import os
 from pathlib import Path
 
 import numpy as np
 
 from locustjump.errors import UserError
+from locustjump.evo import QDParams
 from locustjump.rundir.arrays import genomes, plain, scalar
 from locustjump.rundir.config import TrainConfig
 from locustjump.rundir.files import save_npz
@@ -65,11 +67,16 @@ def write_checkpoint(
 def checkpoint_bytes(cfg: TrainConfig, num_params: int) -> int:
     """The most bytes of arrays a checkpoint of configuration ``cfg`` holds:
     genomes of ``num_params`` genes (the best, and a population of them, as
-    the RCGA keeps), a fitness per individual and generation (as CMA-ES
-    keeps, to replay), and small text (names, the generator's state, the
-    metrics row)."""
-    n = cfg.population
-    return _TEXT + 8 * (n * (num_params + cfg.generations + 2) + 2 * num_params)
+    the RCGA keeps), the fitness (and a QD optimizer's descriptors) of every
+    genome told, as CMA-ES and QD keep to replay, a QD optimizer's archive
+    (a genome, its descriptors, fitness, index and generation a cell), and
+    small text (names, the generator's state, the metrics row)."""
+    n, g, p = cfg.population, cfg.generations, num_params
+    cells = d = 0
+    if isinstance(cfg.optimizer, QDParams):
+        cells, d = math.prod(cfg.optimizer.cells), len(cfg.optimizer.descriptors)
+    told = g * n * (1 + d)
+    return _TEXT + 8 * (n * (p + 1) + 2 * p + told + cells * (p + d + 3))
 
 
 def read_checkpoint(
