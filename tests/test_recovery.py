@@ -6,6 +6,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from helpers import exit_status
 from locustjump.cli import main
 from locustjump.errors import UserError
 from locustjump.evo.rcga import RCGAParams
@@ -115,14 +116,18 @@ def test_getup_evaluate_and_sweep(getup_run, capsys):
 @pytest.mark.parametrize(
     "args, match",
     [
-        (["--step-deg", "0"], "--step-deg must be > 0"),
-        (["--step-deg", "-2"], "--step-deg must be > 0"),
-        (["--from-deg", "-10"], "--from-deg must be in [0, 360]"),
-        (["--to-deg", "365"], "--to-deg must be in [0, 360]"),
+        (["--step-deg", "0"], "--step-deg must be in [0.001, 360] degrees"),
+        (["--step-deg", "-2"], "--step-deg must be in [0.001, 360] degrees"),
+        (["--from-deg", "-10"], "--from-deg must be in [0, 360] degrees"),
+        (["--to-deg", "365"], "--to-deg must be in [0, 360] degrees"),
+        (["--from-deg", "300"], "--from-deg must be below --to-deg (270), got 300"),
+        (["--to-deg", "10"], "--from-deg must be below --to-deg (10), got 90"),
+        (["--from-deg", "10", "--to-deg", "10.5"],
+         "--step-deg must be at most --to-deg - --from-deg (0.5), got 1"),
     ],
-)
+)  # fmt: skip
 def test_sweep_bad_input(getup_run, capsys, args, match):
-    assert main(["sweep-getup", str(getup_run), *args]) == 2
+    assert exit_status(["sweep-getup", str(getup_run), *args]) == 2
     err = capsys.readouterr().err.strip()
     assert match in err and len(err.splitlines()) == 1
 

@@ -76,7 +76,10 @@ def test_render_bad_input(tmp_path, rules_dir, capsys):
     cases = [
         ([str(tmp_path / "nope")], "no such directory"),
         ([str(tmp_path)], "holds no run"),
-        ([str(rules_dir), "--out", str(tmp_path / "v.avi")], "unsupported video"),
+        (
+            [str(rules_dir), "--out", str(tmp_path / "v.avi")],
+            "--out must be a .mp4 or .gif file",
+        ),
         ([str(rules_dir), "--camera", "top"], "invalid choice"),
         ([str(rules_dir), "--fps", "0"], "--fps"),
         # checked before anything is simulated or a progress bar shown

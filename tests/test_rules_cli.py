@@ -112,8 +112,8 @@ def test_cli_rules_writes_csv_and_figure(tmp_path, capsys):
 @pytest.mark.parametrize(
     "argv, needle",
     [
-        (["rules", "--steps", "0", "--out", "X"], "--steps must be >= 1"),
-        (["rules", "--steps", "-5", "--out", "X"], "--steps must be >= 1"),
+        (["rules", "--steps", "0", "--out", "X"], "--steps must be an integer in [1"),
+        (["rules", "--steps", "-5", "--out", "X"], "--steps must be an integer in [1"),
         (["rules", "--change-time", "-1", "--out", "X"], "--change-time"),
         (["model", "--scale", "0", "--out", "X"], "--scale must be"),
         (["model", "--scale", "-2", "--out", "X"], "--scale must be"),

@@ -35,6 +35,12 @@ import numpy as np
 from gymnasium import spaces
 
 from locustjump.present.render import make_renderer
+from locustjump.ranges import (
+    Range,
+    SettingTypeError,
+    SettingValueError,
+    check_choice,
+)
 from locustjump.sim import model as lm
 from locustjump.sim import names
 from locustjump.sim.actuation import MAX_DELTA, N_ACTUATORS
@@ -162,8 +168,14 @@ class LocustEnv(gym.Env):
         self.n_steps = self._behaviour.n_steps
         self.observation_space = spaces.Box(_OBS_LOW, _OBS_HIGH, dtype=np.float64)
         self.action_space = spaces.Box(-1.0, 1.0, (N_ACTUATORS,), dtype=np.float64)
-        self._size = (width, height)
-        self._camera = camera
+        vis = self._episode.model.vis.global_  # the offscreen buffer's size
+        self._size = (
+            Range(1, vis.offwidth, integer=True).check("width", width),
+            Range(1, vis.offheight, integer=True).check("height", height),
+        )
+        self._camera = check_choice(
+            "camera", camera, (names.CAMERA_TRACK, names.CAMERA_SIDE)
+        )
         self._renderer: Any = None  # a mujoco.Renderer once rendering
         self._t = 0
         self._return = 0.0
@@ -186,11 +198,8 @@ class LocustEnv(gym.Env):
         super().reset(seed=seed)
         options = options or {}
         if "start" in options:
-            i = int(options["start"])
-            if not 0 <= i < self.n_starts:
-                raise ValueError(
-                    f"options['start'] must be in [0, {self.n_starts}), got {i}"
-                )
+            starts = Range(0, self.n_starts - 1, integer=True)
+            i = starts.check("options['start']", options["start"])
         else:
             i = int(self.np_random.integers(self.n_starts))
         obs = self._episode.reset(self._starts, i)[0]
@@ -203,7 +212,7 @@ class LocustEnv(gym.Env):
     ) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
         if self._t >= self.n_steps:
             raise RuntimeError("step() after the episode ended; call reset()")
-        a = np.clip(np.asarray(action, dtype=np.float64), -1.0, 1.0)
+        a = np.clip(_action(action), -1.0, 1.0)
         obs = self._episode.step(a.reshape(1, N_ACTUATORS) * MAX_DELTA)[0]
         self._t += 1
         info: dict[str, Any] = {"unstable": self._episode.unstable}
@@ -230,6 +239,19 @@ class LocustEnv(gym.Env):
         if self._renderer is not None:
             self._renderer.close()
             self._renderer = None
+
+
+def _action(action: Any) -> np.ndarray:
+    """``action`` as the ``(N_ACTUATORS,)`` float64 array it must be: real,
+    finite numbers (``TypeError`` for another kind, ``ValueError`` for
+    another shape or a NaN)."""
+    a = np.asarray(action)
+    what = f"{N_ACTUATORS} finite real numbers"
+    if a.dtype.kind not in "iuf":  # complex, bool, text, objects
+        raise SettingTypeError("action", what, action)
+    if a.shape != (N_ACTUATORS,) or not np.isfinite(a).all():
+        raise SettingValueError("action", what + f" (shape ({N_ACTUATORS},))", action)
+    return a.astype(np.float64)
 
 
 def register_envs() -> None:

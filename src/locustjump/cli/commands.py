@@ -248,7 +248,8 @@ def cmd_reproduce(args: argparse.Namespace) -> int:
         )  # fmt: skip
         print(rundir.read_text(path).split("## Best fitness")[0].rstrip())
         return 0
-    path = reproduce(args.out, seed=args.seed, backend=_backend(args), **common)
+    seed = 0 if args.seed is None else args.seed
+    path = reproduce(args.out, seed=seed, backend=_backend(args), **common)
     print(rundir.read_text(path).split("## Beyond")[0].rstrip())
     return 0
 

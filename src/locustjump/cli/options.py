@@ -7,28 +7,28 @@ from __future__ import annotations
 import argparse
 import dataclasses
 
-from locustjump.cli.argtypes import (
-    _cell,
-    _int_at_least,
-    _positive_float,
-    option_type,
-)
+from locustjump.cli.argtypes import accepts, int_list, option_type, ranged
 from locustjump.evo import optimizer_kinds
-from locustjump.sim.engine.backends import BACKENDS
+from locustjump.ranges import range_of
+from locustjump.rundir.elites import CELL_INDEX, ELITE
+from locustjump.sim.engine.backends import ACTORS, BACKENDS, THREADS
 from locustjump.sim.engine.job import ENGINES
-from locustjump.sim.scene import scene_names
+from locustjump.sim.params import LocustParams
+from locustjump.sim.scene import TERRAIN_SEED, TERRAINS, scene_names
 from locustjump.tasks import behaviour_class, behaviour_names
 from locustjump.tasks.base import OPTION_HELP, option_fields
 
 
 def strut_stiffness_arg(p: argparse.ArgumentParser) -> None:
+    valid = range_of(LocustParams, "strut_stiffness")
     p.add_argument(
         "--strut-stiffness",
-        type=_positive_float("--strut-stiffness", allow_zero=True),
+        type=ranged("--strut-stiffness", valid),
         default=0.0,
         metavar="NM_PER_RAD",
         help="fore and middle legs on sprung hinges of this stiffness at real "
-        "scale, e.g. 2e-4 (default 0: rigid struts, the trained creature)",
+        f"scale, e.g. 2e-4; {accepts(valid)} (default 0: rigid struts, the "
+        "trained creature)",
     )
 
 
@@ -46,20 +46,21 @@ def add_scene(
     )
     p.add_argument(
         "--terrain-seed",
-        type=_int_at_least("--terrain-seed", 0),
+        type=ranged("--terrain-seed", TERRAIN_SEED),
         metavar="N",
         help="the terrain of a seeded scene (debris), apart from the evolution's "
-        "--seed (default 0" + (", or the run's first training terrain" if of_run
-        else "") + (": training terrains N .. N+K-1" if train else "") + ")",
+        f"--seed; {accepts(TERRAIN_SEED)} (default 0"
+        + (", or the run's first training terrain" if of_run else "")
+        + (": training terrains N .. N+K-1" if train else "") + ")",
     )  # fmt: skip
     if train:
         p.add_argument(
             "--terrains",
-            type=_int_at_least("--terrains", 1),
+            type=ranged("--terrains", TERRAINS),
             metavar="K",
             help="score every genome on K terrains (seeds from --terrain-seed), "
             'fitness their mean ([scene] aggregate = "min": the worst); '
-            "default 1",
+            f"{accepts(TERRAINS)} (default 1)",
         )
 
 
@@ -68,17 +69,19 @@ def add_elite(p: argparse.ArgumentParser) -> None:
     g = p.add_mutually_exclusive_group()
     g.add_argument(
         "--elite",
-        type=_int_at_least("--elite", 0),
+        type=ranged("--elite", ELITE),
         metavar="K",
         help="a quality-diversity run (map-elites, cma-me): its archive's K-th "
-        "best elite instead of the best genome (0: the best; default: none)",
+        f"best elite instead of the best genome, {accepts(ELITE)} (0: the best; "
+        "default: none)",
     )
     g.add_argument(
         "--cell",
-        type=_cell,
+        type=int_list("--cell", CELL_INDEX),
         metavar="I,J",
         help="... or the elite in this cell of its descriptor grid (indices "
-        "from 0, as DIR/archive.png's top and right axes count them)",
+        f"{CELL_INDEX.interval()}, as DIR/archive.png's top and right axes count "
+        "them)",
     )
 
 
@@ -93,9 +96,9 @@ def add_backend(p: argparse.ArgumentParser) -> None:
     )
     p.add_argument(
         "--threads",
-        type=_int_at_least("--threads", 1),
-        help="simulation threads (threads: default all CPUs; ray: per actor, "
-        "default 1); the result does not depend on it",
+        type=ranged("--threads", THREADS),
+        help=f"simulation threads, {accepts(THREADS)} (threads: default all "
+        "CPUs; ray: per actor, default 1); the result does not depend on it",
     )
     p.add_argument(
         "--address",
@@ -105,8 +108,9 @@ def add_backend(p: argparse.ArgumentParser) -> None:
     )
     p.add_argument(
         "--actors",
-        type=_int_at_least("--actors", 1),
-        help="ray: how many actors (default: the cluster's CPUs / --threads)",
+        type=ranged("--actors", ACTORS),
+        help=f"ray: how many actors, {accepts(ACTORS)} (default: the cluster's "
+        "CPUs / --threads)",
     )
 
 
@@ -200,10 +204,14 @@ def add_behaviour_options(p: argparse.ArgumentParser) -> None:
                 f"{flag} is another; rename it"
             )
         help = field.metadata[OPTION_HELP]
+        if "range" in field.metadata:  # the range it declares, said once more
+            help += f"; {accepts(field.metadata['range'])}"
+        elif "each" in field.metadata:
+            help += f"; each {accepts(field.metadata['each'])}"
         p.add_argument(
             flag,
             dest=f"option_{name}",
-            type=option_type(flag, field.default),
+            type=option_type(flag, field),
             metavar=field.metadata["metavar"],
             help=help if set(who) == every else f"{', '.join(who)}: {help}",
         )

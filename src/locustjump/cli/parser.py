@@ -7,12 +7,11 @@ import argparse
 
 from locustjump.cli import commands as cmd
 from locustjump.cli.argtypes import (
-    _finite_float,
-    _int_at_least,
-    _positive_float,
     _seeds,
     _terrain_seeds,
+    accepts,
     out_path,
+    ranged,
 )
 from locustjump.cli.options import (
     add_backend,
@@ -25,10 +24,15 @@ from locustjump.cli.options import (
 )
 from locustjump.cli.showing import add_showing_commands
 from locustjump.cli.study import add_study_command
+from locustjump.evo.base import POPULATION, SEED
+from locustjump.ranges import range_of
+from locustjump.rundir.config import GENERATIONS
 from locustjump.runs.reproduce import BUDGETS
 from locustjump.sim import model as lm
+from locustjump.sim.engine.job import N_STEPS
 from locustjump.tasks import behaviour_names
-from locustjump.tasks.rules import DEFAULT_CHANGE_TIME
+from locustjump.tasks.getup import ROLL_DEG, STEP_DEG
+from locustjump.tasks.rules import CHANGE_TIME, DEFAULT_CHANGE_TIME
 from locustjump.version import __version__
 
 
@@ -88,12 +92,13 @@ def build_parser() -> argparse.ArgumentParser:
             "(python -m mujoco.viewer --mjcf=FILE)."
         ),
     )
+    valid = range_of(lm.LocustParams, "scale")
     p.add_argument(
         "--scale",
-        type=_positive_float("--scale"),
+        type=ranged("--scale", valid),
         default=lm.LocustParams().scale,
         metavar="FACTOR",
-        help="size over a real desert locust, a factor "
+        help=f"size over a real desert locust, a factor {accepts(valid)} "
         f"(default {lm.LocustParams().scale:g})",
     )
     strut_stiffness_arg(p)
@@ -118,17 +123,18 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument(
         "--change-time",
-        type=_positive_float("--change-time", allow_zero=True),
+        type=ranged("--change-time", CHANGE_TIME),
         default=DEFAULT_CHANGE_TIME,
         metavar="SECONDS",
-        help=f"touch time before a kick, in seconds (default {DEFAULT_CHANGE_TIME})",
+        help=f"touch time before a kick, {accepts(CHANGE_TIME)} (default "
+        f"{DEFAULT_CHANGE_TIME})",
     )
     p.add_argument(
         "--steps",
-        type=_int_at_least("--steps", 1),
+        type=ranged("--steps", N_STEPS),
         default=3000,
         metavar="STEPS",
-        help="episode length in control steps of 1/120 s (default 3000: 25 s)",
+        help=f"episode length, {accepts(N_STEPS)} of 1/120 s (default 3000: 25 s)",
     )
     strut_stiffness_arg(p)
     add_scene(p)
@@ -162,21 +168,23 @@ def build_parser() -> argparse.ArgumentParser:
     add_optimizer(p, None)
     p.add_argument(
         "--population",
-        type=_int_at_least("--population", 1),
+        type=ranged("--population", POPULATION),
         metavar="N",
-        help="genomes per generation (default 50, the paper's)",
+        help=f"genomes per generation, {accepts(POPULATION)} (default 50, the paper's)",
     )
     p.add_argument(
         "--generations",
-        type=_int_at_least("--generations", 1),
+        type=ranged("--generations", GENERATIONS),
         metavar="N",
-        help="generations to train (default 1000, the paper's)",
+        help=f"generations to train, {accepts(GENERATIONS)} (default 1000, the "
+        "paper's)",
     )
     p.add_argument(
         "--seed",
-        type=_int_at_least("--seed", 0),
+        type=ranged("--seed", SEED),
         metavar="N",
-        help="random seed of the optimizer (default 0); same seed, same run",
+        help=f"random seed of the optimizer, {accepts(SEED)} (default 0); same "
+        "seed, same run",
     )
     add_scene(p, train=True)
     add_backend(p)
@@ -264,24 +272,24 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("run", metavar="DIR", help="a getup training run directory")
     p.add_argument(
         "--step-deg",
-        type=_finite_float("--step-deg"),
+        type=ranged("--step-deg", STEP_DEG),
         default=1.0,
         metavar="DEG",
-        help="roll angle between two start states, in degrees (default 1)",
+        help=f"roll angle between two start states, {accepts(STEP_DEG)} (default 1)",
     )
     p.add_argument(
         "--from-deg",
-        type=_finite_float("--from-deg"),
+        type=ranged("--from-deg", ROLL_DEG),
         default=90.0,
         metavar="DEG",
-        help="first start roll angle, in degrees (default 90: on its side)",
+        help=f"first start roll angle, {accepts(ROLL_DEG)} (default 90: on its side)",
     )
     p.add_argument(
         "--to-deg",
-        type=_finite_float("--to-deg"),
+        type=ranged("--to-deg", ROLL_DEG),
         default=270.0,
         metavar="DEG",
-        help="last start roll angle, in degrees, included (default 270)",
+        help=f"last start roll angle, {accepts(ROLL_DEG)}, included (default 270)",
     )
     add_scene(p, of_run=True)
     add_backend(p)
@@ -313,12 +321,11 @@ def build_parser() -> argparse.ArgumentParser:
         ),
     )
     which = p.add_mutually_exclusive_group()
-    which.add_argument(
+    which.add_argument(  # no default: argparse takes a given default for none
         "--seed",
-        type=_int_at_least("--seed", 0),
-        default=0,
+        type=ranged("--seed", SEED),
         metavar="N",
-        help="the random seed of every stage (default 0)",
+        help=f"the random seed of every stage, {accepts(SEED)} (default 0)",
     )
     which.add_argument(
         "--seeds",

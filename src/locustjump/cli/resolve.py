@@ -10,8 +10,9 @@ from typing import Any
 
 from locustjump import rundir
 from locustjump.cli.options import option_flag, takers
-from locustjump.errors import UserError
+from locustjump.errors import UserError, setting_ref
 from locustjump.evo import params_class
+from locustjump.ranges import SettingError
 from locustjump.rundir.config import TrainConfig, terrains_from_table
 from locustjump.sim.scene import Scene, Terrains, scene_class, scene_names
 from locustjump.tasks.base import option_fields
@@ -59,7 +60,12 @@ def resolve_config(
     else:
         cfg = TrainConfig(behaviour=behaviour)
         if config is not None:
-            cfg = rundir.load_config(config, behaviour=behaviour)
+            try:
+                cfg = rundir.load_config(config, behaviour=behaviour)
+            except UserError as e:  # no file to read: named as the option
+                if Path(config).is_file():
+                    raise
+                raise UserError(f"--config: {e.message}") from None
             if cfg.behaviour != behaviour:
                 raise UserError(
                     f"{config}: behaviour {cfg.behaviour!r} differs from the "
@@ -72,7 +78,7 @@ def resolve_config(
         except ValueError as e:
             raise UserError(f"--optimizer: {e}") from None
     if seed is not None:
-        cfg = cfg.replace(seed=seed)
+        cfg = _checked("--seed", cfg.replace, seed=seed)
     if engine is not None:
         cfg = cfg.replace(engine=engine)
     cfg = cfg.replace(scene=terrains_arg(scene, terrain_seed, terrains, cfg.scene))
@@ -86,15 +92,19 @@ def resolve_config(
         opt = _checked("--population", cfg.optimizer.replace, population=population)
         cfg = cfg.replace(optimizer=opt)
     if generations is not None:
-        cfg = cfg.replace(generations=generations)
+        cfg = _checked("--generations", cfg.replace, generations=generations)
     return cfg
 
 
 def _checked(option: str, make, *args, **changes):
     """``make(*args, **changes)``, its ``ValueError`` as a one-line error
-    naming ``option``."""
+    naming ``option`` (in place of the setting it changes)."""
     try:
         return make(*args, **changes)
+    except SettingError as e:  # its setting is the option's: named by it
+        if e.name in changes or e.name == option.lstrip("-").replace("-", "_"):
+            raise UserError(e.message.replace(setting_ref(e.name), option, 1)) from None
+        raise UserError(f"{option}: {e.message}") from None
     except ValueError as e:
         raise UserError(f"{option}: {e}") from None
 
@@ -115,12 +125,16 @@ def terrains_arg(
     if scene is not None:
         t = _scene_named(scene)
     if terrain_seed is not None:
-        if t.scene.with_seed(terrain_seed + 1) == t.scene:
+        if not t.scene.seeded:
             raise UserError(
                 f"--terrain-seed: the {t.scene.name} scene has no terrains to "
                 f"choose from (e.g. --scene debris)"
             )
-        t = dataclasses.replace(t, scene=t.scene.with_seed(terrain_seed))
+        seeded = _checked("--terrain-seed", t.scene.with_seed, terrain_seed)
+        if terrains is None:  # the count of base, from this seed on
+            t = _checked("--terrain-seed", dataclasses.replace, t, scene=seeded)
+        else:
+            t = dataclasses.replace(t, scene=seeded, count=1)
     if terrains is not None:
         t = _checked("--terrains", dataclasses.replace, t, count=terrains)
     return t

@@ -6,10 +6,11 @@ from __future__ import annotations
 import argparse
 
 from locustjump.cli import commands as cmd
-from locustjump.cli.argtypes import _positive_float, out_path
+from locustjump.cli.argtypes import accepts, out_path, ranged
 from locustjump.cli.options import add_backend, add_elite, add_scene
-from locustjump.present.compare import KEYS
-from locustjump.present.render import CAMERAS
+from locustjump.present.compare import KEYS, MARGIN
+from locustjump.present.render import CAMERAS, FPS
+from locustjump.present.viewer import DURATION
 
 
 def add_showing_commands(sub: argparse._SubParsersAction) -> None:
@@ -36,9 +37,9 @@ def add_showing_commands(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument(
         "--fps",
-        type=_positive_float("--fps"),
+        type=ranged("--fps", FPS),
         default=60.0,
-        help="frames per second of simulated time, at most 120 (default 60)",
+        help=f"frames of simulated time, {accepts(FPS)} (default 60)",
     )
     p.add_argument(
         "--camera",
@@ -72,9 +73,10 @@ def add_showing_commands(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument(
         "--duration",
-        type=_positive_float("--duration"),
+        type=ranged("--duration", DURATION),
         metavar="SECONDS",
-        help="close after this many seconds (default: when the window is closed)",
+        help=f"close after this long, {accepts(DURATION)} (default: when the "
+        "window is closed)",
     )
     add_scene(p, of_run=True)
     p.set_defaults(func=cmd.cmd_view)
@@ -131,10 +133,11 @@ def add_showing_commands(sub: argparse._SubParsersAction) -> None:
                    "commas; default optimizer)")  # fmt: skip
     p.add_argument("--reference", help="the group the others are tested against "
                    "(default: the first)")  # fmt: skip
-    p.add_argument("--margin", type=_positive_float("--margin"), metavar="M",
-                   help="equivalence margin in fitness units (> 0): adds the "
-                   "TOST p of equivalence within +-M and the seeds per arm for "
-                   "80 %% power against a shift of M (default: none)")  # fmt: skip
+    p.add_argument("--margin", type=ranged("--margin", MARGIN), metavar="M",
+                   help="equivalence margin in fitness units, "
+                   f"{accepts(MARGIN)}: adds the TOST p of equivalence "
+                   "within +-M and the seeds per arm for 80 %% power against "
+                   "a shift of M (default: none)")  # fmt: skip
     p.add_argument("--figure", metavar="FILE", help="write the convergence curves "
                    "to FILE (default: no figure)")  # fmt: skip
     p.add_argument("--title", default="", help="the figure's title (default: what "

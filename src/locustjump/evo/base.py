@@ -40,12 +40,25 @@ from __future__ import annotations
 import json
 import math
 import numbers
-import operator
 from abc import ABC, abstractmethod
 from collections.abc import Mapping
 from typing import Any, ClassVar, Protocol, runtime_checkable
 
 import numpy as np
+
+from locustjump.ranges import Range
+
+#: Most genomes a generation may hold: a bound on the setting itself (the paper
+#: has 50); whether a population fits this machine's memory is checked before
+#: training (:func:`locustjump.sim.resources.require_memory`).
+MAX_POPULATION = 1_000_000
+#: ``population``, every optimizer's: genomes per generation
+POPULATION = Range(2, MAX_POPULATION, integer=True)
+#: Bound on every gene-scale setting (an initial spread, a mutation's sigma):
+#: a tanh network saturates long before.
+MAX_GENE_SCALE = 1.0e6
+#: the seed of an optimizer (and of a run)
+SEED = Range(0, 2**63 - 1, integer=True)
 
 
 @runtime_checkable
@@ -137,13 +150,9 @@ class Optimizer(ABC):
     seed: int
 
     def __init__(self, num_params: int, params: Any, seed: int = 0) -> None:
-        if not isinstance(seed, numbers.Integral):
-            raise TypeError(f"seed must be an int, got {type(seed).__name__}")
-        if num_params < 1:
-            raise ValueError(f"num_params must be >= 1, got {num_params}")
-        self.num_params = operator.index(num_params)
+        self.num_params = Range(1, None, integer=True).check("num_params", num_params)
         self.params = params
-        self.seed = int(seed)
+        self.seed = SEED.check("seed", seed)
         self._restart()
 
     def _restart(self) -> None:

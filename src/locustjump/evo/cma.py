@@ -26,7 +26,8 @@ from typing import Any, ClassVar
 import numpy as np
 
 from locustjump.errors import UserError, setting_ref
-from locustjump.evo.base import Optimizer
+from locustjump.evo.base import MAX_GENE_SCALE, POPULATION, Optimizer
+from locustjump.ranges import Range, check_settings, setting
 
 #: pycma's stop keys that are ours to ignore: the trainer owns the budget
 _BUDGET_RULES = {
@@ -44,14 +45,13 @@ class CMAParams:
     """Settings of CMA-ES: the initial mean is 0, the initial step ``sigma0``."""
 
     kind: ClassVar[str] = "cma"
-    population: int = 50  # lambda, genomes per generation (paper's GA: 50)
-    sigma0: float = 0.5  # initial step size (genes of the RCGA start in [-1, 1])
+    #: lambda, genomes per generation (paper's GA: 50)
+    population: int = setting(50, POPULATION)
+    #: initial step size (genes of the RCGA start in [-1, 1])
+    sigma0: float = setting(0.5, Range(0.0, MAX_GENE_SCALE, lo_open=True))
 
     def __post_init__(self) -> None:
-        if self.population < 2:
-            raise ValueError(f"population must be >= 2, got {self.population}")
-        if not (np.isfinite(self.sigma0) and 0 < self.sigma0 <= 1.0e6):
-            raise ValueError(f"sigma0 must be in (0, 1e6], got {self.sigma0}")
+        check_settings(self)
 
     def replace(self, **changes: Any) -> CMAParams:
         return dataclasses.replace(self, **changes)

@@ -15,7 +15,14 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from locustjump.evo.base import Optimizer, rng_from_state, rng_state
+from locustjump.evo.base import (
+    MAX_GENE_SCALE,
+    POPULATION,
+    Optimizer,
+    rng_from_state,
+    rng_state,
+)
+from locustjump.ranges import Range, check_settings, setting
 
 
 @dataclass(frozen=True)
@@ -23,14 +30,12 @@ class RandomSearchParams:
     """Settings of random search."""
 
     kind: ClassVar[str] = "random"
-    population: int = 50  # genomes per generation
-    init_scale: float = 1.0  # genes uniform in [-init_scale, init_scale]
+    population: int = setting(50, POPULATION)  # genomes per generation
+    #: genes uniform in [-init_scale, init_scale]
+    init_scale: float = setting(1.0, Range(0.0, MAX_GENE_SCALE, lo_open=True))
 
     def __post_init__(self) -> None:
-        if self.population < 1:
-            raise ValueError(f"population must be >= 1, got {self.population}")
-        if not (np.isfinite(self.init_scale) and 0 < self.init_scale <= 1.0e6):
-            raise ValueError(f"init_scale must be in (0, 1e6], got {self.init_scale}")
+        check_settings(self)
 
     def replace(self, **changes: Any) -> RandomSearchParams:
         return dataclasses.replace(self, **changes)

@@ -41,66 +41,62 @@ from typing import Any, ClassVar, Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from locustjump.evo.base import Optimizer, rng_from_state, rng_state
-
-#: Bound on every gene-scale setting: a tanh network saturates long before.
-MAX_GENE_SCALE = 1.0e6
+from locustjump.evo.base import (
+    MAX_GENE_SCALE,
+    MAX_POPULATION,
+    POPULATION,
+    Optimizer,
+    rng_from_state,
+    rng_state,
+)
+from locustjump.ranges import Range, SettingValueError, check_settings, setting
 
 Crossover = Literal["blx", "sbx", "undx"]
 CROSSOVERS: tuple[str, ...] = ("blx", "sbx", "undx")
 F64 = NDArray[np.float64]
 
+#: a probability
+_RATE = Range(0.0, 1.0)
+#: a gene-scale setting (alpha, eta, sigma, the initial spread)
+_GENE_SCALE = Range(0.0, MAX_GENE_SCALE)
+
 
 @dataclass(frozen=True)
 class RCGAParams:
-    """Settings of the RCGA; the defaults are the project's (module docstring)."""
+    """Settings of the RCGA; the defaults are the project's (module docstring).
+    Each numeric field's range is declared beside it (:mod:`locustjump.ranges`)."""
 
     kind: ClassVar[str] = "rcga"
-    population: int = 50  # individuals per generation (paper: 50)
-    elite: int = 2  # best individuals copied unchanged into the next generation
-    tournament_size: int = 3
+    #: individuals per generation (paper: 50)
+    population: int = setting(50, POPULATION)
+    #: best individuals copied unchanged into the next generation (< population)
+    elite: int = setting(2, Range(0, MAX_POPULATION - 1, integer=True))
+    #: entrants of a selection tournament (drawn with replacement)
+    tournament_size: int = setting(3, Range(1, MAX_POPULATION, integer=True))
     crossover: Crossover = "blx"
-    crossover_rate: float = 1.0  # else the child is a copy of its first parent
-    blx_alpha: float = 0.5
-    sbx_eta: float = 2.0  # small eta: children spread far from the parents
-    undx_sigma_xi: float = 0.5
-    undx_sigma_eta: float = 0.35  # divided by sqrt(num_params) (Ono & Kobayashi)
-    mutation_rate: float = 0.1  # per gene
-    mutation_sigma: float = 0.1
-    init_scale: float = 1.0  # initial genes uniform in [-init_scale, init_scale]
+    #: else the child is a copy of its first parent
+    crossover_rate: float = setting(1.0, _RATE)
+    blx_alpha: float = setting(0.5, _GENE_SCALE)
+    #: small eta: children spread far from the parents
+    sbx_eta: float = setting(2.0, _GENE_SCALE)
+    undx_sigma_xi: float = setting(0.5, _GENE_SCALE)
+    #: divided by sqrt(num_params) (Ono & Kobayashi)
+    undx_sigma_eta: float = setting(0.35, _GENE_SCALE)
+    mutation_rate: float = setting(0.1, _RATE)  # per gene
+    mutation_sigma: float = setting(0.1, _GENE_SCALE)
+    #: initial genes uniform in [-init_scale, init_scale]
+    init_scale: float = setting(1.0, _GENE_SCALE)
 
     def __post_init__(self) -> None:
-        if self.population < 2:
-            raise ValueError(f"population must be >= 2, got {self.population}")
-        if not 0 <= self.elite < self.population:
-            raise ValueError(
-                f"elite must be in [0, population), got {self.elite} "
-                f"(population {self.population})"
-            )
-        if self.tournament_size < 1:
-            raise ValueError(
-                f"tournament_size must be >= 1, got {self.tournament_size}"
+        check_settings(self)
+        if self.elite >= self.population:
+            raise SettingValueError(
+                "elite", f"less than population ({self.population})", self.elite
             )
         if self.crossover not in CROSSOVERS:
-            raise ValueError(
-                f"crossover must be one of {', '.join(CROSSOVERS)}, "
-                f"got {self.crossover!r}"
+            raise SettingValueError(
+                "crossover", f"one of {', '.join(CROSSOVERS)}", self.crossover
             )
-        for name in ("crossover_rate", "mutation_rate"):
-            v = getattr(self, name)
-            if not 0.0 <= v <= 1.0:
-                raise ValueError(f"{name} must be in [0, 1], got {v}")
-        for name in (
-            "blx_alpha",
-            "sbx_eta",
-            "undx_sigma_xi",
-            "undx_sigma_eta",
-            "mutation_sigma",
-            "init_scale",
-        ):
-            v = getattr(self, name)
-            if not (np.isfinite(v) and 0 <= v <= MAX_GENE_SCALE):
-                raise ValueError(f"{name} must be in [0, {MAX_GENE_SCALE:g}], got {v}")
 
     def replace(self, **changes: Any) -> RCGAParams:
         return dataclasses.replace(self, **changes)

@@ -24,17 +24,21 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+from matplotlib.backend_bases import FigureCanvasBase
 
 from locustjump import rundir
 from locustjump.errors import UserError, setting_ref
 from locustjump.present.plots import subplots
 from locustjump.present.stats import Sample, compare_samples, interval_text, p_text
+from locustjump.ranges import Range, SettingValueError
 
 #: the x axis when a composed run's frozen runs are counted (total_budget)
 TOTAL_LABEL = "genome evaluations, the frozen simple runs' included"
 
 #: config keys a comparison may group by
 KEYS = ("optimizer", "engine", "behaviour", "seed", "scene")
+#: ``margin``: of equivalence, in fitness units
+MARGIN = Range(0.0, lo_open=True)
 
 
 @dataclass(frozen=True)
@@ -211,10 +215,8 @@ def table(
     )
     if ref is None:
         raise UserError(f"{setting_ref('reference')} {reference!r}: no such group")
-    if margin is not None and not (np.isfinite(margin) and margin > 0):
-        raise UserError(
-            f"{setting_ref('margin')} must be a finite number > 0, got {margin}"
-        )
+    if margin is not None:
+        margin = MARGIN.check("margin", margin)
     head = [f"HL shift vs {ref.label} [95 % CI]", "Mann–Whitney p"]
     if margin is not None:
         head += [f"TOST p vs ±{margin:g}", "seeds for 80 % power"]
@@ -254,6 +256,19 @@ def _tests(g: Group, ref: Group, margin: float | None) -> list[str]:
     return [*cells, c.verdict]
 
 
+def check_figure_path(path: str | os.PathLike) -> Path:
+    """``path`` if Matplotlib can write a figure in the format its suffix
+    names (none: PNG), else a ``SettingError`` naming ``figure``."""
+    path = Path(path)
+    formats = FigureCanvasBase.get_supported_filetypes()
+    if path.suffix and path.suffix.lstrip(".").lower() not in formats:
+        raise SettingValueError(
+            "figure", f"a file ending in one of .{', .'.join(sorted(formats))}",
+            str(path),
+        )  # fmt: skip
+    return path
+
+
 def convergence_figure(groups: Sequence[Group], path: str | os.PathLike,
                        title: str = "", xlabel: str = "genome evaluations",
                        ) -> Path:  # fmt: skip
@@ -274,7 +289,7 @@ def convergence_figure(groups: Sequence[Group], path: str | os.PathLike,
     ax.set_title(title or "best fitness: median and interquartile range over runs")
     ax.legend()
     fig.tight_layout()
-    path = Path(path)
+    path = check_figure_path(path)
     with rundir.atomic_path(path) as tmp:
         fig.savefig(tmp, format=path.suffix.lstrip(".") or "png", dpi=120)
     return path

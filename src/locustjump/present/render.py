@@ -31,6 +31,7 @@ from tqdm import tqdm
 from locustjump import opengl, rundir
 from locustjump.errors import UserError, setting_ref
 from locustjump.present.video import RenderUnavailable, write_video
+from locustjump.ranges import Range, SettingValueError, check_choice
 from locustjump.rundir.config import from_table, terrains_from_table
 from locustjump.rundir.migrations import rules_summary
 from locustjump.sim import model as lm
@@ -47,6 +48,8 @@ if TYPE_CHECKING:
 
 CAMERAS = (names.CAMERA_TRACK, names.CAMERA_SIDE)
 VIDEO_SUFFIXES = (".mp4", ".gif")
+#: ``fps``: frames per second of simulated time, at most one a control step
+FPS = Range(0.0, 1 / CONTROL_DT, lo_open=True, unit="frames/s")
 #: tile size (pixels) when several episodes play side by side
 TILE = (320, 240)
 #: frames per second of a reproduction's per-stage videos (a quarter of the
@@ -295,19 +298,17 @@ def frames(
 
 
 def check_options(fps: float, camera: str) -> None:
-    """One-line errors for a frame rate or camera that cannot be rendered."""
-    if camera not in CAMERAS:
-        raise UserError(f"unknown camera {camera!r}; one of {', '.join(CAMERAS)}")
-    if not 0 < fps <= 1 / CONTROL_DT:
-        raise UserError(f"fps must be in (0, {1 / CONTROL_DT:g}], got {fps:g}")
+    """One-line errors for a frame rate or camera that cannot be rendered
+    (their declared ranges: :data:`FPS`, :data:`CAMERAS`)."""
+    check_choice("camera", camera, CAMERAS)
+    FPS.check("fps", fps)
 
 
 def check_video_path(out: Path, *, force: bool = False) -> None:
     """One-line errors for an unsupported extension or an existing file."""
     if out.suffix.lower() not in VIDEO_SUFFIXES:
-        raise UserError(
-            f"{out}: unsupported video extension {out.suffix or '(none)'!r}; "
-            f"use {' or '.join(VIDEO_SUFFIXES)}"
+        raise SettingValueError(
+            "out", f"a {' or '.join(VIDEO_SUFFIXES)} file", str(out)
         )
     if out.exists() and not force:
         raise UserError(

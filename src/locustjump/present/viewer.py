@@ -16,10 +16,14 @@ import numpy as np
 
 from locustjump.errors import UserError
 from locustjump.present.render import Source, source_of
+from locustjump.ranges import Range
 from locustjump.sim import names
 from locustjump.sim.engine.episode import Episode
 from locustjump.sim.model import CONTROL_DT
 from locustjump.sim.scene import Scene
+
+#: ``duration``: (s) of a live view
+DURATION = Range(0.0, lo_open=True, unit="s")
 
 
 def view(
@@ -32,6 +36,9 @@ def view(
     controller acts every 1/120 s of simulated time, in real time, looping over
     the start states until the window is closed (or ``duration`` seconds have
     passed). Drag the body with the mouse to perturb it."""
+    if duration is not None:
+        duration = DURATION.check("duration", duration)
+    src = source_of(path, scene)  # what was asked for, before what this has
     if sys.platform.startswith("linux") and not (
         os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")
     ):
@@ -39,7 +46,6 @@ def view(
             "no display (DISPLAY is not set): the viewer needs a desktop session; "
             "use `locustjump render` to make a video instead"
         )
-    src = source_of(path, scene)
     import mujoco.viewer
 
     ep = Episode(src.model_params, src.scene)

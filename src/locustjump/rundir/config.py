@@ -40,7 +40,18 @@ from typing import Any, TypeVar
 
 from locustjump import plugins
 from locustjump.errors import UserError
-from locustjump.evo import QDParams, RCGAParams, params_class
+from locustjump.evo import QDParams, RCGAParams, optimizer_kinds, params_class
+from locustjump.evo.base import SEED
+from locustjump.ranges import (
+    INT64_MAX,
+    Range,
+    SettingError,
+    SettingTypeError,
+    check_choice,
+    check_settings,
+    check_type,
+    setting,
+)
 from locustjump.rundir.migrations import (
     CONFIG_FORMAT,
     hashed_config,
@@ -53,6 +64,9 @@ from locustjump.sim.scene import DEFAULT_SCENE, Terrains, scene_class
 from locustjump.tasks import behaviour_class, behaviour_names
 from locustjump.tasks.base import CommonOptions
 
+#: ``generations``: a run's length (a resumed run may extend it)
+GENERATIONS = Range(1, INT64_MAX, integer=True)
+
 
 @dataclass(frozen=True)
 class TrainConfig:
@@ -60,8 +74,10 @@ class TrainConfig:
     any number of threads, any backend gives the same result)."""
 
     behaviour: str = "kick"
-    seed: int = 0
-    generations: int = 1000  # paper: 1000
+    #: of the optimizer: same seed, same run
+    seed: int = setting(0, SEED)
+    #: generations to train (paper: 1000)
+    generations: int = setting(1000, GENERATIONS)
     optimizer: Any = field(default_factory=RCGAParams)  # an optimizer's settings
     model: lm.LocustParams = field(default_factory=lm.LocustParams)
     #: how the controllers are computed between physics calls
@@ -77,23 +93,18 @@ class TrainConfig:
     scene: Terrains = field(default_factory=Terrains)
 
     def __post_init__(self) -> None:
-        if self.behaviour not in behaviour_names():
-            raise ValueError(
-                f"unknown behaviour {self.behaviour!r}; "
-                f"choose from {', '.join(behaviour_names())}"
-            )
-        if self.generations < 1:
-            raise ValueError(f"generations must be >= 1, got {self.generations}")
-        if self.seed < 0:
-            raise ValueError(f"seed must be >= 0, got {self.seed}")
-        for name in ("seed", "generations"):  # config.toml holds 64-bit integers
-            if getattr(self, name) >= 2**63:
-                raise ValueError(f"{name} must be < 2**63, got {getattr(self, name)}")
-        if self.engine not in ENGINES:
-            raise ValueError(
-                f"engine must be one of {', '.join(ENGINES)}, got {self.engine!r}"
-            )
-        params_class(getattr(self.optimizer, "kind", None))
+        check_choice("behaviour", self.behaviour, behaviour_names())
+        check_settings(self)
+        check_choice("engine", self.engine, ENGINES)
+        check_type("frozen_digest", self.frozen_digest, str, "text")
+        kinds = ", ".join(params_class(k).__name__ for k in optimizer_kinds())
+        what = f"an optimizer's settings ({kinds})"
+        if not hasattr(self.optimizer, "kind"):
+            raise SettingTypeError("optimizer", what, self.optimizer)
+        # a kind no optimizer has: ValueError; another class of that kind's
+        check_type("optimizer", self.optimizer, params_class(self.optimizer.kind), what)
+        check_type("model", self.model, lm.LocustParams, "LocustParams")
+        check_type("scene", self.scene, Terrains, "Terrains (e.g. Terrains(Debris()))")
         if isinstance(self.optimizer, QDParams):  # the task's descriptors
             cls = behaviour_class(self.behaviour)
             declared = {d.name: (d.low, d.high) for d in cls.descriptors}
@@ -105,10 +116,10 @@ class TrainConfig:
         if self.options is None:
             object.__setattr__(self, "options", kind())
         elif not isinstance(self.options, kind):
-            raise ValueError(
-                f"{self.behaviour} takes {kind.__name__} options, "
-                f"got {type(self.options).__name__}"
-            )
+            raise SettingTypeError(
+                "options", f"{kind.__name__} (the {self.behaviour} behaviour's)",
+                self.options,
+            )  # fmt: skip
 
     @property
     def population(self) -> int:
@@ -211,7 +222,7 @@ class TrainConfig:
             kwargs["options"] = from_table(kind, options, "options", source)
         try:
             return cls(**kwargs)
-        except ValueError as e:
+        except (ValueError, SettingError) as e:
             raise UserError(f"{source}: {e}") from None
 
 
@@ -236,7 +247,7 @@ def terrains_from_table(table: Any, source: str) -> Terrains:
     scene = from_table(cls, scene_before(cls.name, table, fields), "scene", source)
     try:
         return Terrains(scene, extra.get("terrains", 1), extra.get("aggregate", "mean"))
-    except ValueError as e:
+    except (ValueError, SettingError) as e:
         raise UserError(f"{source}: [scene] {e}") from None
 
 
@@ -346,5 +357,5 @@ def from_table(cls: type, table: Any, section: str, source: str) -> Any:
         )
     try:
         return cls(**kwargs)
-    except ValueError as e:
+    except (ValueError, SettingError) as e:
         raise UserError(f"{source}: [{section}] {e}") from None

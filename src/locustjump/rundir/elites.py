@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from locustjump.errors import UserError, setting_ref
+from locustjump.ranges import INT64_MAX, Range
 from locustjump.rundir.archive import has_archive, read_archive
 from locustjump.rundir.config import TrainConfig
 from locustjump.rundir.layout import ARCHIVE
@@ -34,6 +35,12 @@ class Elite(BestGenome):
         return f"elite {self.rank} (cell {','.join(map(str, self.cell))})"
 
 
+#: ``elite``: an elite's rank in its archive (0: the best)
+ELITE = Range(0, INT64_MAX, integer=True)
+#: each index of ``cell``: a cell of the descriptor grid, from 0
+CELL_INDEX = Range(0, INT64_MAX, integer=True)
+
+
 def load_elite(
     path: str | os.PathLike[str],
     *,
@@ -45,6 +52,10 @@ def load_elite(
     elite in grid cell ``cell`` (an :class:`Elite`); neither given: the best
     genome (``best.npz``). ``UserError`` naming the option if that elite
     does not exist."""
+    if elite is not None:
+        elite = ELITE.check("elite", elite)
+    if cell is not None:
+        cell = tuple(CELL_INDEX.check("cell", i) for i in cell)
     cfg, beh, best = load_run(path)
     if elite is None and cell is None:
         return cfg, beh, best

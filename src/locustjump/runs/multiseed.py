@@ -37,6 +37,7 @@ from tqdm.auto import tqdm
 
 from locustjump import rundir
 from locustjump.errors import UserError, setting_ref
+from locustjump.evo.base import SEED
 from locustjump.present.report import write_report
 from locustjump.present.results import minutes, seeds_markdown
 from locustjump.runs.reproduce import finish_reproduction, reproduce
@@ -72,6 +73,8 @@ def parse_seeds(text: str) -> list[int]:
         a, b = int(lo), int(hi or lo)
         if b < a:
             raise ValueError(f"{text!r}: the range {part} is empty")
+        if b > SEED.hi:
+            raise ValueError(f"{text!r}: a seed must be {SEED}, not {b}")
         if b - a + len(seeds) >= MAX_SEEDS:
             raise ValueError(f"{text!r}: more than {MAX_SEEDS} seeds")
         seeds += range(a, b + 1)

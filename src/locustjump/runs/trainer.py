@@ -298,7 +298,8 @@ def _check_new(
             cfg.population * len(beh.start_states(cfg.model)) * cfg.scene.count,
             beh.n_steps, beh.record,
         ),
-        f"population {cfg.population:,}: a generation",
+        f"a generation of {cfg.population:,} genomes",
+        setting=("population", cfg.population),
     )  # fmt: skip
     # the controller and optimizer are checked here
     run = Trainer(beh, _optimizer(cfg, beh), backend, out, cfg)

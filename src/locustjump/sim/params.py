@@ -5,48 +5,25 @@ them into an MJCF document."""
 from __future__ import annotations
 
 import dataclasses
-import math
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
+from locustjump.ranges import Range, SettingValueError, check_settings, setting
+
 CONTROL_DT = 1.0 / 120.0  # (Seconds) one control step, the paper's "step"
 
 
-#: Physical ranges of the scalar fields (low, high, low included): a creature
-#: between a flea's size and a few metres, materials between cork and steel
-#: scaled, positive gains; a value outside is refused before MuJoCo sees it.
-_RANGES: dict[str, tuple[float, float, bool]] = {
-    "scale": (0.01, 1000.0, True),  # a 0.5 mm to a 50 m body
-    "density": (1.0, 1.0e5, True),  # (kg/m^3) lighter than cork to beyond osmium
-    **dict.fromkeys(
-        (
-            "body_half_length",
-            "body_radius",
-            "head_radius",
-            "femur_length",
-            "femur_radius",
-            "tibia_length",
-            "tibia_radius",
-            "tarsus_radius",
-            "strut_radius",
-        ),
-        (1.0e-5, 1.0, True),
-    ),  # (m) at real scale  # fmt: skip
-    "strut_clearance": (0.0, 0.1, True),  # (m)
-    "strut_stiffness": (0.0, 1.0e3, True),
-    "strut_damping": (0.0, 1.0e3, True),
-    "servo_kp": (1.0e-12, 1.0e3, True),
-    "servo_kv": (0.0, 1.0e3, True),
-    "servo_force_limit": (1.0e-12, 1.0e3, True),
-    "joint_damping": (0.0, 1.0e3, True),
-    "joint_armature": (0.0, 1.0e3, True),
-    "substeps": (1, 1000, True),
-    "friction": (1.0e-6, 100.0, True),
-    "iterations": (1, 10000, True),
-    "ls_iterations": (1, 10000, True),
-}
+#: Physical ranges (docs/physics.md): a creature between a flea's size and a few
+#: metres, materials between cork and steel scaled, positive gains; a value
+#: outside is refused before MuJoCo sees it.
+_LENGTH = Range(1.0e-5, 1.0, unit="m")  # at real scale
+_GAIN = Range(0.0, 1.0e3)  # a damping, a stiffness, an armature: 0 allowed
+_POSITIVE_GAIN = Range(1.0e-12, 1.0e3)
+_POINT = Range(size=3)  # (m) a point, or a direction, at real scale
+_ANGLES = Range(size=2, unit="deg")
+_ANGLE = Range(unit="deg")
 _INTEGRATORS = ("Euler", "RK4", "implicit", "implicitfast")
 
 
@@ -56,110 +33,108 @@ class LocustParams:
 
     Lengths are multiplied by ``scale`` when written; servo gains, armature and
     damping by ``scale**5`` (inertia ~ mass * length^2), so the servo's natural
-    frequency does not depend on the scale.
+    frequency does not depend on the scale. Each field's range is declared
+    beside it (:mod:`locustjump.ranges`).
     """
 
-    scale: float = 10.0  # (-) size multiplier over a real locust
-    density: float = 300.0  # (kg/m^3) every geom
+    #: (-) size multiplier over a real locust: a 0.5 mm to a 50 m body
+    scale: float = setting(10.0, Range(0.01, 1000.0))
+    #: (kg/m^3) every geom: lighter than cork to beyond osmium
+    density: float = setting(300.0, Range(1.0, 1.0e5, unit="kg/m^3"))
 
     # Body: a capsule along x plus a head sphere.
-    body_half_length: float = 0.018  # (m) cylinder half-length of the body capsule
-    body_radius: float = 0.005  # (m)
-    head_radius: float = 0.0045  # (m) sphere at the front end
+    #: (m) cylinder half-length of the body capsule
+    body_half_length: float = setting(0.018, _LENGTH)
+    body_radius: float = setting(0.005, _LENGTH)  # (m)
+    head_radius: float = setting(0.0045, _LENGTH)  # (m) sphere at the front end
     # Hind legs.
-    hip_pos: tuple[float, float, float] = (0.003, 0.006, -0.003)  # (m) left hip
-    femur_length: float = 0.024  # (m)
-    femur_radius: float = 0.0018  # (m)
-    tibia_length: float = 0.023  # (m)
-    tibia_radius: float = 0.0008  # (m)
-    tarsus_radius: float = 0.0015  # (m) sphere at the tibia tip
+    hip_pos: tuple[float, float, float] = setting((0.003, 0.006, -0.003), _POINT)
+    femur_length: float = setting(0.024, _LENGTH)  # (m)
+    femur_radius: float = setting(0.0018, _LENGTH)  # (m)
+    tibia_length: float = setting(0.023, _LENGTH)  # (m)
+    tibia_radius: float = setting(0.0008, _LENGTH)  # (m)
+    tarsus_radius: float = setting(0.0015, _LENGTH)  # (m) sphere at the tibia tip
     # Passive fore and middle legs: rigid struts from an attachment point.
-    fore_attach: tuple[float, float, float] = (0.014, 0.004, -0.003)  # (m)
-    fore_dir: tuple[float, float, float] = (0.45, 0.55, -0.70)  # unit-less
-    mid_attach: tuple[float, float, float] = (0.004, 0.005, -0.003)  # (m)
-    mid_dir: tuple[float, float, float] = (0.0, 0.60, -0.80)  # unit-less
-    strut_radius: float = 0.0009  # (m)
+    fore_attach: tuple[float, float, float] = setting((0.014, 0.004, -0.003), _POINT)
+    fore_dir: tuple[float, float, float] = setting((0.45, 0.55, -0.70), _POINT)
+    mid_attach: tuple[float, float, float] = setting((0.004, 0.005, -0.003), _POINT)
+    mid_dir: tuple[float, float, float] = setting((0.0, 0.60, -0.80), _POINT)
+    strut_radius: float = setting(0.0009, _LENGTH)  # (m)
     # Struts end this far above the floor when standing level, so that the hind
     # tarsi always carry weight (and their touch sensors fire) at rest.
-    strut_clearance: float = 0.0005  # (m)
+    strut_clearance: float = setting(0.0005, Range(0.0, 0.1, unit="m"))
     # 0: struts fixed to the body. > 0: each strut swings on a passive hinge
     # (horizontal axis across the strut, so weight splays it outwards) with
     # this spring. Standing, the middle legs carry about a third of the weight
     # (the abdomen tip and hind tarsi the rest, the fore legs none) and sag
     # 0.2 deg at 2e-4 N m/rad, 1.2 deg at 2.5e-6 (scripts/rules_posture_grid.py).
-    strut_stiffness: float = 0.0  # (N m/rad) at real scale
-    strut_damping: float = 4.0e-6  # (N m s/rad) of a sprung strut's hinge
-    strut_swing: float = 30.0  # (deg) a sprung strut's hinge range is +-this
+    #: (N m/rad) at real scale
+    strut_stiffness: float = setting(0.0, Range(0.0, 1.0e3, unit="N m/rad"))
+    #: (N m s/rad) of a sprung strut's hinge
+    strut_damping: float = setting(4.0e-6, _GAIN)
+    #: (deg) a sprung strut's hinge range is +-this
+    strut_swing: float = setting(
+        30.0, Range(0.0, 90.0, lo_open=True, hi_open=True, unit="deg")
+    )
 
     # Joint ranges and the ready-to-jump posture phi (Fig. 3/4), in degrees.
-    hip_range: tuple[float, float] = (20.0, 140.0)  # (deg)
-    knee_range: tuple[float, float] = (5.0, 160.0)  # (deg)
-    ready_hip: float = 100.0  # (deg) femur levated 10 deg above horizontal
-    ready_knee: float = 10.0  # (deg) tibia folded under the femur
+    hip_range: tuple[float, float] = setting((20.0, 140.0), _ANGLES)  # (deg)
+    knee_range: tuple[float, float] = setting((5.0, 160.0), _ANGLES)  # (deg)
+    #: (deg) femur levated 10 deg above horizontal
+    ready_hip: float = setting(100.0, _ANGLE)
+    ready_knee: float = setting(10.0, _ANGLE)  # (deg) tibia folded under the femur
     # Extended posture of the rule-based kick (and of the max-rate kick of the
     # physics gates): chosen by the kick fitness E (docs/physics.md).
-    kick_hip: float = 80.0  # (deg)
-    kick_knee: float = 130.0  # (deg)
+    kick_hip: float = setting(80.0, _ANGLE)  # (deg)
+    kick_knee: float = setting(130.0, _ANGLE)  # (deg)
 
     # Servos (position actuators) and joint dynamics, at real scale.
-    servo_kp: float = 2.0e-4  # (N m/rad)
-    servo_kv: float = 4.0e-6  # (N m s/rad)
-    servo_force_limit: float = 2.0e-4  # (N m)
-    joint_damping: float = 1.0e-6  # (N m s/rad) hind hinges
-    joint_armature: float = 1.0e-8  # (kg m^2) hind hinges
+    servo_kp: float = setting(2.0e-4, _POSITIVE_GAIN)  # (N m/rad)
+    servo_kv: float = setting(4.0e-6, _GAIN)  # (N m s/rad)
+    servo_force_limit: float = setting(2.0e-4, _POSITIVE_GAIN)  # (N m)
+    joint_damping: float = setting(1.0e-6, _GAIN)  # (N m s/rad) hind hinges
+    joint_armature: float = setting(1.0e-8, _GAIN)  # (kg m^2) hind hinges
 
     # Simulation.
-    substeps: int = 3  # physics steps per control step
+    #: physics steps per control step
+    substeps: int = setting(3, Range(1, 1000, integer=True))
     integrator: str = "implicitfast"
-    solref: tuple[float, float] = (0.0056, 1.0)  # (s, -) contact time constant, damping
-    solimp: tuple[float, float, float] = (0.9, 0.95, 0.001)  # (-, -, m) impedance
-    friction: float = 1.0  # (-) sliding friction coefficient
-    iterations: int = 50
-    ls_iterations: int = 20
+    #: (s, -) contact time constant, damping
+    solref: tuple[float, float] = setting(
+        (0.0056, 1.0), Range(0.0, lo_open=True, size=2)
+    )
+    #: (-, -, m) impedance
+    solimp: tuple[float, float, float] = setting((0.9, 0.95, 0.001), Range(size=3))
+    #: (-) sliding friction coefficient
+    friction: float = setting(1.0, Range(1.0e-6, 100.0))
+    iterations: int = setting(50, Range(1, 10000, integer=True))
+    ls_iterations: int = setting(20, Range(1, 10000, integer=True))
 
     def __post_init__(self) -> None:
-        for f in dataclasses.fields(self):
-            v = getattr(self, f.name)
-            values = v if isinstance(v, tuple) else (v,)
-            if any(isinstance(x, float) and not math.isfinite(x) for x in values):
-                raise ValueError(f"{f.name} must be finite, got {v}")
-        for name, (lo, hi, closed) in _RANGES.items():
-            v = getattr(self, name)
-            if not ((lo <= v if closed else lo < v) and v <= hi):
-                bound = "[" if closed else "("
-                raise ValueError(
-                    f"{name} must be in {bound}{lo:g}, {hi:g}] (docs/physics.md), "
-                    f"got {v}"
-                )
+        check_settings(self)
         if self.integrator not in _INTEGRATORS:
-            raise ValueError(
-                f"integrator must be one of {', '.join(_INTEGRATORS)}, "
-                f"got {self.integrator!r}"
+            raise SettingValueError(
+                "integrator", f"one of {', '.join(_INTEGRATORS)}", self.integrator
             )
-        if not (self.solref[0] > 0 and self.solref[1] > 0):
-            raise ValueError(f"solref must be two numbers > 0, got {self.solref}")
         if not (
             0 < self.solimp[0] < 1 and 0 < self.solimp[1] < 1 and self.solimp[2] > 0
         ):
-            raise ValueError(
-                f"solimp must be (d0, dwidth) in (0, 1) and a width > 0, got "
-                f"{self.solimp}"
+            raise SettingValueError(
+                "solimp", "(d0, dwidth) in (0, 1) and a width > 0", self.solimp
             )
-        if self.substeps < 1:
-            raise ValueError(f"substeps must be >= 1, got {self.substeps}")
-        if not self.strut_stiffness >= 0:
-            raise ValueError(
-                f"strut_stiffness must be >= 0, got {self.strut_stiffness}"
-            )
-        if not 0 < self.strut_swing < 90:
-            raise ValueError(f"strut_swing must be in (0, 90), got {self.strut_swing}")
         for nm in ("hip", "knee"):
             lo, hi = getattr(self, f"{nm}_range")
             if not 0.0 < lo < hi < 360.0:
-                raise ValueError(f"{nm}_range must satisfy 0 < lo < hi < 360")
+                raise SettingValueError(
+                    f"{nm}_range", "(lo, hi) with 0 < lo < hi < 360 degrees", (lo, hi)
+                )
             for pose in ("ready", "kick"):
                 if not lo <= getattr(self, f"{pose}_{nm}") <= hi:
-                    raise ValueError(f"{pose}_{nm} must lie in {nm}_range")
+                    raise SettingValueError(
+                        f"{pose}_{nm}",
+                        f"in {nm}_range [{lo:g}, {hi:g}] degrees",
+                        getattr(self, f"{pose}_{nm}"),
+                    )
 
     @property
     def timestep(self) -> float:

@@ -4,8 +4,10 @@ that cannot fit in memory is refused with the estimate and the limit."""
 from __future__ import annotations
 
 import os
+from typing import Any
 
 from locustjump.errors import UserError
+from locustjump.ranges import SettingValueError
 
 #: the share of the memory available now that one command may plan to use
 MEMORY_SHARE = 0.8
@@ -30,12 +32,19 @@ def gib(n: float) -> str:
     return f"{n / 2**30:.3g} GiB"
 
 
-def require_memory(nbytes: float, what: str) -> None:
+def require_memory(
+    nbytes: float, what: str, setting: tuple[str, Any] | None = None
+) -> None:
     """``UserError`` naming ``what``, its estimate and the limit, if ``nbytes``
-    exceeds :data:`MEMORY_SHARE` of the available memory."""
+    exceeds :data:`MEMORY_SHARE` of the available memory; with ``setting``
+    (name, value), the setting that asks for that much is named: a
+    :class:`~locustjump.ranges.SettingValueError`."""
     limit = MEMORY_SHARE * available_bytes()
     if nbytes > limit:
-        raise UserError(
+        why = (
             f"{what} needs about {gib(nbytes)} of memory; the limit is {gib(limit)} "
             f"({MEMORY_SHARE:.0%} of the {gib(limit / MEMORY_SHARE)} available)"
         )
+        if setting is not None:
+            raise SettingValueError(setting[0], f"smaller: {why}", setting[1])
+        raise UserError(why)

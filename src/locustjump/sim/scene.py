@@ -32,6 +32,14 @@ from typing import ClassVar
 import numpy as np
 
 from locustjump import plugins
+from locustjump.ranges import (
+    INT64_MAX,
+    Range,
+    SettingTypeError,
+    SettingValueError,
+    check_settings,
+    setting,
+)
 from locustjump.sim import names, rubble
 from locustjump.sim.rubble import HEIGHT_CELL_BL
 
@@ -129,6 +137,19 @@ class Flat(Scene):
 MAX_BOXES = 2000
 #: Most terrains a genome may be scored on in training.
 MAX_TERRAINS = 64
+#: ``seed`` of a seeded scene: one terrain each (the last of several terrains,
+#: ``seed + terrains - 1``, too)
+TERRAIN_SEED = Range(0, INT64_MAX, integer=True)
+#: ``terrains``: how many a genome is scored on
+TERRAINS = Range(1, MAX_TERRAINS, integer=True)
+#: The smallest extent of a debris field's box or wall (body lengths; half a
+#: millimetre at the default size): smaller ones are no geoms MuJoCo can
+#: make (5e-324 body lengths is a size of 0) nor divide by (``spacing``).
+MIN_EXTENT = 1.0e-3
+#: a debris field's extent that must be more than 0 (body lengths)
+_EXTENT = Range(MIN_EXTENT, 1000.0, unit="body lengths")
+#: one that may be 0 (body lengths)
+_SPAN = Range(0.0, 1000.0, unit="body lengths")
 #: Most cells of a terrain's height grid (8 bytes each: 160 MB).
 MAX_CELLS = 20_000_000
 
@@ -156,74 +177,44 @@ class Debris(Flat):
     """
 
     name: ClassVar[str] = "debris"
-    _BL_FIELDS: ClassVar[tuple[str, ...]] = (
-        "length", "behind", "width", "spacing",
-        "size_min", "size_max", "height_min", "height_max", "wall_height",
-        "wall_margin",
-    )  # fmt: skip
 
-    seed: int = 0  #: the terrain (not the evolution's seed)
-    length: float = 26.0  #: (body lengths) of rubble ahead of the start
-    behind: float = 2.0  #: (body lengths) of rubble behind the start
-    width: float = 6.0  #: (body lengths) across, centred on the start
-    spacing: float = 1.2  #: (body lengths) mean distance between boxes
-    size_min: float = 0.3  #: (body lengths) shortest side of a box
-    size_max: float = 1.0  #: (body lengths) longest side of a box
-    height_min: float = 0.05  #: (body lengths) lowest box
-    height_max: float = 0.4  #: (body lengths) highest box
-    clearing: float = 1.0  #: (body lengths) radius kept free around the start
-    friction: float = 1.0  #: (-) sliding friction of the boxes
-    #: (body lengths) of the walls around the field; 0: an open field
-    wall_height: float = 8.0
-    #: (body lengths) in front of the walls' faces at which they start pushing
+    # lengths in body lengths (the ranges' unit)
+    seed: int = setting(0, TERRAIN_SEED)  #: the terrain (not the evolution's)
+    length: float = setting(26.0, _EXTENT)  #: of rubble ahead of the start
+    behind: float = setting(2.0, _SPAN)  #: of rubble behind the start
+    width: float = setting(6.0, _EXTENT)  #: across, centred on the start
+    spacing: float = setting(1.2, _EXTENT)  #: mean distance between boxes
+    size_min: float = setting(0.3, _EXTENT)  #: shortest side of a box
+    size_max: float = setting(1.0, _EXTENT)  #: longest side, >= size_min
+    height_min: float = setting(0.05, _EXTENT)  #: lowest box
+    height_max: float = setting(0.4, _EXTENT)  #: highest box, >= height_min
+    clearing: float = setting(1.0, _SPAN)  #: radius kept free around the start
+    friction: float = setting(1.0, Range(1e-6, 100.0))  #: (-) of the boxes
+    #: of the walls around the field; 0: an open field
+    wall_height: float = setting(8.0, _SPAN)
+    #: in front of the walls' faces at which they start pushing
     #: (MuJoCo's contact ``margin`` on the wall geoms, ``gap`` 0): a limb that
     #: moves centimetres in one substep meets the wall's soft contact before
     #: its face rather than overshooting into it (docs/physics.md, "Walls that
-    #: hold"); in [0, half a wall's thickness), and 0 on an open field
-    wall_margin: float = 0.1
+    #: hold"); less than half a wall's thickness, and 0 on an open field
+    wall_margin: float = setting(
+        0.1, Range(0.0, rubble.WALL_THICKNESS_BL / 2, hi_open=True, unit="body lengths")
+    )
 
     def __post_init__(self) -> None:
-        if isinstance(self.seed, bool) or not isinstance(self.seed, int):
-            raise ValueError(f"seed must be an integer, got {self.seed!r}")
-        if not 0 <= self.seed < 2**63:
-            raise ValueError(f"seed must be in [0, 2^63), got {self.seed}")
-        for key in (*self._BL_FIELDS, "friction"):
-            v = getattr(self, key)
-            if not (isinstance(v, (int, float)) and math.isfinite(v)):
-                raise ValueError(f"{key} must be a finite number, got {v!r}")
-        if not 0 <= self.clearing <= 1000:
-            raise ValueError(
-                f"clearing must be in [0, 1000] body lengths, got {self.clearing}"
-            )
-        for key in ("length", "width", "spacing", "size_min", "height_min"):
-            if not 0 < getattr(self, key) <= 1000:
-                raise ValueError(
-                    f"{key} must be in (0, 1000] body lengths, got {getattr(self, key)}"
-                )
-        if not 0 <= self.wall_height <= 1000:
-            raise ValueError(
-                f"wall_height must be in [0, 1000] body lengths (0: no walls), "
-                f"got {self.wall_height}"
-            )
-        if not 0 <= self.wall_margin < rubble.WALL_THICKNESS_BL / 2:
-            raise ValueError(
-                f"wall_margin must be in [0, {rubble.WALL_THICKNESS_BL / 2:g}) body "
-                f"lengths (half a wall's thickness), got {self.wall_margin}"
-            )
+        check_settings(self)
+        if 0 < self.wall_height < MIN_EXTENT:
+            raise SettingValueError(
+                "wall_height", f"0 (no walls) or in [{MIN_EXTENT:g}, 1000] body "
+                "lengths", self.wall_height,
+            )  # fmt: skip
         if self.wall_height == 0:  # no walls, no margin: one open field
             object.__setattr__(self, "wall_margin", 0.0)
-        if not 0 <= self.behind <= 1000:
-            raise ValueError(
-                f"behind must be in [0, 1000] body lengths, got {self.behind}"
-            )
         for lo, hi in (("size_min", "size_max"), ("height_min", "height_max")):
-            if not getattr(self, lo) <= getattr(self, hi) <= 1000:
-                raise ValueError(
-                    f"{hi} must be in [{lo}, 1000] body lengths, "
-                    f"got {getattr(self, hi)}"
+            if getattr(self, hi) < getattr(self, lo):
+                raise SettingValueError(
+                    hi, f"at least {lo} ({getattr(self, lo):g})", getattr(self, hi)
                 )
-        if not 1e-6 <= self.friction <= 100:
-            raise ValueError(f"friction must be in [1e-6, 100], got {self.friction}")
         reach = 2 * self.size_max  # the grid's margin: a box's diagonal, both sides
         cells = ((self.behind + self.length + reach) / HEIGHT_CELL_BL) * (
             (self.width + reach) / HEIGHT_CELL_BL
@@ -392,20 +383,24 @@ class Terrains:
 
     def __post_init__(self) -> None:
         if not isinstance(self.scene, Scene):
-            raise ValueError(f"scene must be a Scene, got {self.scene!r}")
-        if isinstance(self.count, bool) or not 1 <= self.count <= MAX_TERRAINS:
-            raise ValueError(
-                f"terrains must be an integer in [1, {MAX_TERRAINS}], "
-                f"got {self.count!r}"
-            )
+            raise SettingTypeError("scene", "a Scene (flat, debris, ...)", self.scene)
+        object.__setattr__(self, "count", TERRAINS.check("terrains", self.count))
         if self.aggregate not in AGGREGATES:
-            raise ValueError(
-                f"aggregate must be one of {', '.join(AGGREGATES)}, "
-                f"got {self.aggregate!r}"
+            raise SettingValueError(
+                "aggregate", f"one of {', '.join(AGGREGATES)}", self.aggregate
             )
         if self.count > 1 and not self.scene.seeded:
-            raise ValueError(
-                f"the {self.scene.name} scene has one terrain, not {self.count}"
+            raise SettingValueError(
+                "terrains", f"1 (the {self.scene.name} scene has one terrain)",
+                self.count,
+            )  # fmt: skip
+        first: int = getattr(self.scene, "seed", 0)
+        if first + self.count - 1 > INT64_MAX:  # the last terrain's seed
+            raise SettingValueError(
+                "terrains",
+                f"at most {INT64_MAX - first + 1} from seed {first} (terrain "
+                "seeds are at most 2**63-1)",
+                self.count,
             )
 
     @property

@@ -13,6 +13,12 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
+from locustjump.ranges import (
+    Range,
+    SettingError,
+    SettingTypeError,
+    SettingValueError,
+)
 from locustjump.sim import model as lm
 from locustjump.sim.controller import MLP, Controller
 from locustjump.sim.engine.rollout import (
@@ -31,26 +37,32 @@ if TYPE_CHECKING:
 
 #: the finest physics a fitness may also be scored at (substeps a control step)
 MAX_SCORE_SUBSTEPS = 48
+#: each of ``score_substeps``
+SCORE_SUBSTEPS = Range(1, MAX_SCORE_SUBSTEPS, integer=True)
 
 #: the metadata key of a behaviour's option that training offers by name
 OPTION_HELP = "help"
 
 
-def option(default: Any, help: str, metavar: str) -> Any:
+def option(default: Any, help: str, metavar: str, valid: Range | None = None) -> Any:
     """A field of a behaviour's ``Options`` that training offers by name (the
     command line as ``--NAME``, dashes for underscores): ``help`` says what
     it is and its default, ``metavar`` what its value looks like; its type is
     the default's (an int, a float, a str, or a tuple of ints); the
-    ``Options`` class checks its value (``ValueError``)."""
+    ``Options`` class checks its value (``ValueError``). ``valid``: the range
+    of a number (of each number of a tuple), declared here for the parser and
+    its help; the ``Options`` class checks a number's with ``check_settings``
+    (metadata ``range``), a tuple's itself (metadata ``each``)."""
     ok = isinstance(default, int | float | str) and not isinstance(default, bool)
     if not (ok or _ints(default)):
         raise TypeError(
             f"an option's default is an int, a float, a str or a tuple of ints, "
             f"not {default!r}"
         )
-    return dataclasses.field(
-        default=default, metadata={OPTION_HELP: help, "metavar": metavar}
-    )
+    meta: dict[str, Any] = {OPTION_HELP: help, "metavar": metavar}
+    if valid is not None:
+        meta["each" if isinstance(default, tuple) else "range"] = valid
+    return dataclasses.field(default=default, metadata=meta)
 
 
 def _ints(value: Any) -> bool:
@@ -77,15 +89,21 @@ class CommonOptions:
         "substeps a control step; its fitness is the worst of all resolutions "
         "(default: the model's substeps only)",
         "S,S",
+        SCORE_SUBSTEPS,
     )
 
     def __post_init__(self) -> None:
-        bad = [s for s in self.score_substeps if not 1 <= s <= MAX_SCORE_SUBSTEPS]
-        if bad or len(set(self.score_substeps)) != len(self.score_substeps):
-            raise ValueError(
-                f"score_substeps must be distinct integers in [1, "
-                f"{MAX_SCORE_SUBSTEPS}], got {list(self.score_substeps)}"
-            )
+        given = self.score_substeps
+        what = f"distinct integers each in {SCORE_SUBSTEPS.interval()}"
+        if isinstance(given, str | bytes) or not isinstance(given, tuple | list):
+            raise SettingTypeError("score_substeps", what, given)
+        try:
+            substeps = tuple(SCORE_SUBSTEPS.check("score_substeps", s) for s in given)
+        except SettingError as e:
+            raise type(e)("score_substeps", what, list(given)) from None
+        if len(set(substeps)) != len(substeps):
+            raise SettingValueError("score_substeps", what, list(given))
+        object.__setattr__(self, "score_substeps", substeps)
 
 
 class StepReward:

@@ -38,6 +38,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
+from locustjump.ranges import Range, check_settings
 from locustjump.sim import model as lm
 from locustjump.sim.analysis import clearance, find_jumps
 from locustjump.sim.controller import MLP, Controller, MLPWeights
@@ -91,21 +92,19 @@ def successive_terms(
 class SwitchOptions(CommonOptions):
     """The composed behaviour's settings beyond the paper (``[options]``)."""
 
-    #: control steps between two decisions of the switcher (paper: 120)
+    #: control steps between two decisions of the switcher (paper: 120); at
+    #: most one episode's
     switch_every: int = option(
         SWITCH_EVERY,
         "control steps between two decisions of the switcher (default "
         f"{SWITCH_EVERY}, the paper's; beyond the paper, recorded in config.toml)",
         "STEPS",
+        Range(1, 3000, integer=True, unit="control steps"),
     )
 
     def __post_init__(self) -> None:
         super().__post_init__()
-        if not 1 <= self.switch_every <= 3000:
-            raise ValueError(
-                "switch_every must be in [1, 3000] control steps, "
-                f"got {self.switch_every}"
-            )
+        check_settings(self)
 
 
 @dataclass(frozen=True, eq=False)

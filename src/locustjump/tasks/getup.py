@@ -20,7 +20,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from tqdm.auto import tqdm
 
-from locustjump.errors import UserError, setting_ref
+from locustjump.errors import setting_ref
+from locustjump.ranges import Range, SettingValueError
 from locustjump.sim import model as lm
 from locustjump.sim.engine.job import (
     DEFAULT_ENGINE,
@@ -141,26 +142,38 @@ class GetUp(Behaviour):
         return UpReward(self, p)
 
 
+#: ``step_deg``: (degrees) between two start states of the sweep; a
+#: thousandth of a degree is far finer than any controller can tell apart
+STEP_DEG = Range(1.0e-3, 360.0, unit="degrees")
+#: ``from_deg``, ``to_deg``: (degrees) a start state's roll angle in the sweep
+ROLL_DEG = Range(0.0, 360.0, unit="degrees")
+
+
 def sweep_angles(
     step_deg: float = 1.0, from_deg: float = 90.0, to_deg: float = 270.0
 ) -> np.ndarray:
     """The generalisation test's roll angles: the centres of ``step_deg`` bins
     from ``from_deg`` to ``to_deg`` (1 deg: 90.5, 91.5, ..., 269.5, i.e. 180
     states from one side to the other, none equal to a training state)."""
-    step, start, stop = (setting_ref(n) for n in ("step_deg", "from_deg", "to_deg"))
-    if not step_deg > 0:
-        raise UserError(f"{step} must be > 0, got {step_deg:g}")
-    for name, a in ((start, from_deg), (stop, to_deg)):
-        if not 0.0 <= a <= 360.0:
-            raise UserError(f"{name} must be in [0, 360] degrees, got {a:g}")
-    if not from_deg < to_deg:
-        raise UserError(f"{start} {from_deg:g} must be below {stop} {to_deg:g}")
+    step_deg = STEP_DEG.check("step_deg", step_deg)
+    from_deg = ROLL_DEG.check("from_deg", from_deg)
+    to_deg = ROLL_DEG.check("to_deg", to_deg)
+    if not from_deg < to_deg:  # named by both: either may be the one to change
+        raise SettingValueError(
+            "from_deg", f"below {setting_ref('to_deg')} ({to_deg:g})", from_deg
+        )
     n = int(np.floor((to_deg - from_deg) / step_deg + 1e-9))
     if n < 1:
-        raise UserError(f"{step} {step_deg:g} leaves no angle in the range")
+        raise SettingValueError(
+            "step_deg",
+            f"at most {setting_ref('to_deg')} - {setting_ref('from_deg')} "
+            f"({to_deg - from_deg:g})",
+            step_deg,
+        )
     require_memory(
         rollout_bytes(lm.load_model(), n + len(TRAIN_ROLLS), GetUp.n_steps, ("obs",)),
-        f"{step} {step_deg:g}: a sweep of {n:,} start states",
+        f"a sweep of {n:,} start states",
+        setting=("step_deg", step_deg),
     )
     return from_deg + step_deg * (np.arange(n) + 0.5)
 

@@ -10,11 +10,12 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from locustjump.ranges import renamed
 from locustjump.sim import model as lm
 from locustjump.sim.analysis import find_jumps, stuck_overturned
-from locustjump.sim.engine.rollout import DEFAULT_ENGINE, rollout
+from locustjump.sim.engine.rollout import DEFAULT_ENGINE, N_STEPS, rollout
 from locustjump.sim.scene import Flat, Scene
-from locustjump.tasks.rules import DEFAULT_CHANGE_TIME, RuleController
+from locustjump.tasks.rules import CHANGE_TIME, DEFAULT_CHANGE_TIME, RuleController
 from locustjump.tasks.starts import ready_state
 
 if TYPE_CHECKING:
@@ -57,21 +58,22 @@ def run_rules(
     """Run the rule-based successive jumping from the Fig. 4 start state in
     ``scene`` (``backend``: where, :mod:`~.engine.backends`; ``label``: a
     progress bar on a terminal)."""
-    if steps < 1:
-        raise ValueError(f"steps must be >= 1, got {steps}")
+    change_time = CHANGE_TIME.check("change_time", change_time)
+    steps = N_STEPS.check("steps", steps)
     rc = RuleController.for_model(model_params)
-    res = rollout(
-        rc,
-        rc.params_for(change_time),
-        ready_state(model_params, scene),
-        steps,
-        model_params=model_params,
-        record=("qpos", "obs", "ctrl"),
-        backend=backend,
-        label=label,
-        engine=engine,
-        scene=scene,
-    )
+    with renamed({"n_steps": "steps"}):  # a rollout too long for the memory
+        res = rollout(
+            rc,
+            rc.params_for(change_time),
+            ready_state(model_params, scene),
+            steps,
+            model_params=model_params,
+            record=("qpos", "obs", "ctrl"),
+            backend=backend,
+            label=label,
+            engine=engine,
+            scene=scene,
+        )
     qpos = res["qpos"][0]
     return RulesRun(
         qpos,

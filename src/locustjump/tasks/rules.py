@@ -22,6 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from locustjump.ranges import Range
 from locustjump.sim import model as lm
 from locustjump.sim.actuation import MAX_DELTA
 from locustjump.sim.controller import MLP, MLPWeights
@@ -29,6 +30,9 @@ from locustjump.sim.model import CONTROL_DT
 
 #: (Seconds) default change time, from scripts/tune_change_time.py
 DEFAULT_CHANGE_TIME = 0.5
+#: ``change_time``: (s) touch time before a kick; an hour is far beyond any
+#: episode (the creature would never kick)
+CHANGE_TIME = Range(0.0, 3600.0, unit="s")
 
 
 @dataclass(frozen=True)

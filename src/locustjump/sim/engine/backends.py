@@ -19,8 +19,13 @@ once with :func:`make_backend`, then pass it down explicitly.
 from __future__ import annotations
 
 from locustjump.errors import UserError, setting_ref
-from locustjump.sim.engine.ray_backend import RayBackend
-from locustjump.sim.engine.threads import Backend, ThreadBackend, default_threads
+from locustjump.sim.engine.ray_backend import ACTORS, RayBackend
+from locustjump.sim.engine.threads import (
+    THREADS,
+    Backend,
+    ThreadBackend,
+    default_threads,
+)
 
 #: backend names the command line accepts
 BACKENDS: tuple[str, ...] = ("threads", "ray")
@@ -54,5 +59,5 @@ def make_backend(
     raise ValueError(f"unknown backend {name!r}; choose from {', '.join(BACKENDS)}")
 
 
-__all__ = ["BACKENDS", "Backend", "RayBackend", "ThreadBackend", "default_threads",
-           "make_backend"]  # fmt: skip
+__all__ = ["ACTORS", "BACKENDS", "THREADS", "Backend", "RayBackend",
+           "ThreadBackend", "default_threads", "make_backend"]  # fmt: skip

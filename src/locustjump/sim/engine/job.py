@@ -15,6 +15,7 @@ import numpy as np
 from numpy.typing import NDArray
 from tqdm.auto import tqdm
 
+from locustjump.ranges import INT64_MAX, Range
 from locustjump.sim import actuation, sensors
 from locustjump.sim import model as lm
 from locustjump.sim.controller import Controller
@@ -49,6 +50,9 @@ UNSTABLE = slice(0, int(mujoco.mjtWarning.mjNWARNING))
 ENGINES = ("numpy", "numba")
 #: The engine of new runs.
 DEFAULT_ENGINE = "numba"
+#: ``n_steps`` of an episode: control steps (whether they fit in memory is
+#: checked apart: :func:`locustjump.sim.resources.require_memory`)
+N_STEPS = Range(1, INT64_MAX, integer=True, unit="control steps")
 
 
 def went_unstable(
@@ -128,8 +132,7 @@ class RolloutJob:
     scene: Scene = Flat()
 
     def __post_init__(self) -> None:
-        if self.n_steps < 1:
-            raise ValueError(f"n_steps must be >= 1, got {self.n_steps}")
+        object.__setattr__(self, "n_steps", N_STEPS.check("n_steps", self.n_steps))
         if self.params.ndim != 2 or self.params.shape[1] != self.controller.num_params:
             raise ValueError(
                 f"params has shape {self.params.shape}, expected "

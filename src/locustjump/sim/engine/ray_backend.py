@@ -23,8 +23,12 @@ from types import ModuleType
 from typing import Any
 
 from locustjump.errors import UserError, setting_ref
+from locustjump.ranges import Range
 from locustjump.sim.engine.job import RolloutJob, RolloutResult
-from locustjump.sim.engine.threads import ThreadBackend
+from locustjump.sim.engine.threads import THREADS, ThreadBackend
+
+#: ``actors``: Ray actors of one backend (several may share a CPU)
+ACTORS = Range(1, 1 << 16, integer=True)
 
 #: seconds to wait for a cluster address to answer before giving up
 CONNECT_TIMEOUT = 5.0
@@ -112,11 +116,9 @@ class RayBackend:
         actors: int | None = None,
         threads: int | None = None,
     ):
-        self.threads = 1 if threads is None else int(threads)
-        if self.threads < 1:
-            raise ValueError(f"threads must be >= 1, got {threads}")
-        if actors is not None and actors < 1:
-            raise ValueError(f"actors must be >= 1, got {actors}")
+        self.threads = THREADS.check("threads", 1 if threads is None else threads)
+        if actors is not None:
+            actors = ACTORS.check("actors", actors)
         ray = connect(address)
         cpus = int(ray.cluster_resources().get("CPU", 0))
         if cpus < self.threads:

@@ -18,6 +18,7 @@ from locustjump.sim.engine.backends import Backend, ThreadBackend
 from locustjump.sim.engine.job import (
     DEFAULT_ENGINE,
     ENGINES,
+    N_STEPS,
     RECORDABLE,
     RolloutJob,
     RolloutResult,
@@ -80,22 +81,24 @@ def rollout(
       A :class:`RolloutResult` with ``n_ctrl * k`` episodes, controller-major:
       episode ``c * k + s`` is controller ``c`` from start state ``s``.
     """
+    n_steps = N_STEPS.check("n_steps", n_steps)
     params = np.atleast_2d(np.asarray(params, dtype=np.float64))
     k = len(starts)
     require_memory(
         rollout_bytes(
-            lm.load_model(model_params, scene), params.shape[0] * k, int(n_steps),
+            lm.load_model(model_params, scene), params.shape[0] * k, n_steps,
             record,
             controller.memory_size,
         ),
-        f"a rollout of {params.shape[0] * k:,} episodes x {int(n_steps):,} steps",
+        f"a rollout of {params.shape[0] * k:,} episodes x {n_steps:,} steps",
+        setting=("n_steps", n_steps),
     )  # fmt: skip
     job = RolloutJob(
         model_params,
         controller,
         np.repeat(params, k, axis=0),
         starts.take(np.tile(np.arange(k), params.shape[0])),
-        int(n_steps),
+        n_steps,
         tuple(record),
         label,
         engine,

@@ -8,6 +8,7 @@ from typing import Protocol
 
 from mujoco.batch import Batch
 
+from locustjump.ranges import Range
 from locustjump.sim import model as lm
 from locustjump.sim.engine.job import RolloutJob, RolloutResult
 from locustjump.sim.engine.strategies import run_batch
@@ -37,6 +38,11 @@ def default_threads() -> int:
     )
 
 
+#: ``threads``: simulation threads of a process (more than its episodes or
+#: its CPUs gain nothing)
+THREADS = Range(1, 1 << 16, integer=True)
+
+
 class ThreadBackend:
     """Steps all episodes in one ``mujoco.batch.Batch`` on ``threads`` C threads.
 
@@ -45,9 +51,9 @@ class ThreadBackend:
     """
 
     def __init__(self, threads: int | None = None):
-        self.threads = default_threads() if threads is None else int(threads)
-        if self.threads < 1:
-            raise ValueError(f"threads must be >= 1, got {threads}")
+        if threads is None:
+            threads = default_threads()
+        self.threads = THREADS.check("threads", threads)
         self._batches: dict[tuple[lm.LocustParams, Scene, int], Batch] | None = {}
 
     def _batch(self, p: lm.LocustParams, scene: Scene, n: int) -> Batch:
