@@ -128,7 +128,7 @@ def test_the_table(finished):
         (('seeds = "0-4"', "seeds = []"), "seeds must be a non-empty list"),
         (('currency = "evaluations"', 'currency = "dollars"'), "currency 'dollars'"),
         (('reference = "rcga"', 'reference = "cma"'), "reference 'cma'"),
-        (("margin = 0.1 ", "margin = -1 "), "margin must be a positive number"),
+        (("margin = 0.1 ", "margin = -1 "), "margin must be a finite number > 0"),
         (("[defaults]", "wat = 1\n[defaults]"), "unknown key 'wat'"),
         (('label = "random search"', 'label = "random search"\nseed = 3'),
          "a fixed seed is for an arm others build on"),

@@ -52,6 +52,8 @@ from typing import Any
 
 from locustjump import rundir
 from locustjump.errors import UserError, setting_ref
+from locustjump.present.compare import MARGIN
+from locustjump.ranges import SettingError
 from locustjump.runs.multiseed import parse_seeds
 from locustjump.runs.studyarms import Arm, parse_arms
 
@@ -139,12 +141,11 @@ def load_study(path: str | os.PathLike, seeds: str | None = None) -> Study:
             f"{src}: currency {currency!r}: choose from {', '.join(CURRENCIES)}"
         )
     margin = d.get("margin")
-    if margin is not None and (
-        isinstance(margin, bool)
-        or not isinstance(margin, int | float)
-        or not 0 < margin < float("inf")
-    ):
-        raise UserError(f"{src}: margin must be a positive number, got {margin!r}")
+    if margin is not None:  # compare --margin's, declared there
+        try:
+            margin = MARGIN.check("margin", margin)
+        except SettingError as e:
+            raise UserError(f"{src}: {e}") from None
     arms = parse_arms(d.get("arms"), d.get("defaults", {}), root, src)
     reference = d.get("reference")
     if reference is not None and (reference not in arms or not arms[reference].score):
@@ -155,7 +156,7 @@ def load_study(path: str | os.PathLike, seeds: str | None = None) -> Study:
     _held_out(arms, all_seeds, evaluation, src)
     return Study(
         name, path, root, out, all_seeds, currency,
-        None if margin is None else float(margin), reference, evaluation, arms,
+        margin, reference, evaluation, arms,
     )  # fmt: skip
 
 
