@@ -160,14 +160,18 @@ class Range:
         return f"a number {text}" if text.startswith("in ") else text
 
     def _one(self, name: str, v: Any, whole: Any) -> int | float:
-        if isinstance(v, bool) or not isinstance(
-            v, numbers.Integral if self.integer else numbers.Real
-        ):
+        out: int | float
+        if isinstance(v, bool):
             raise SettingTypeError(name, self._typed(), whole)
-        try:  # an integer is compared exactly, however large
-            out = int(v) if self.integer else float(v)
-        except OverflowError:  # an integer beyond any float
-            raise SettingValueError(name, str(self), whole) from None
+        if self.integer and isinstance(v, numbers.Integral):
+            out = int(v)  # compared exactly, however large
+        elif not self.integer and isinstance(v, numbers.Real):
+            try:
+                out = float(v)
+            except OverflowError:  # an integer beyond any float
+                raise SettingValueError(name, str(self), whole) from None
+        else:
+            raise SettingTypeError(name, self._typed(), whole)
         if not self.contains(out):
             raise SettingValueError(name, str(self), whole)
         return out
@@ -211,7 +215,8 @@ def range_of(cls: Any, name: str) -> Range:
     ``name`` (``KeyError`` if it declares none)."""
     for f in dataclasses.fields(cls):
         if f.name == name and "range" in f.metadata:
-            return f.metadata["range"]
+            valid: Range = f.metadata["range"]
+            return valid
     raise KeyError(f"{getattr(cls, '__name__', cls)} declares no range for {name!r}")
 
 
@@ -239,7 +244,7 @@ def check_choice(name: str, value: Any, choices: tuple[str, ...]) -> str:
     """``value`` if it is one of the names ``choices``, else a
     :class:`SettingError` naming ``name`` (a ``TypeError`` if it is not text)."""
     what = f"one of {', '.join(choices)}"
-    check_type(name, value, str, what)
-    if value not in choices:
-        raise SettingValueError(name, what, value)
-    return value
+    text: str = check_type(name, value, str, what)
+    if text not in choices:
+        raise SettingValueError(name, what, text)
+    return text

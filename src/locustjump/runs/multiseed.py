@@ -40,6 +40,7 @@ from locustjump.errors import UserError, setting_ref
 from locustjump.evo.base import SEED
 from locustjump.present.report import write_report
 from locustjump.present.results import minutes, seeds_markdown
+from locustjump.ranges import INT64_MAX
 from locustjump.runs.reproduce import finish_reproduction, reproduce
 from locustjump.runs.reproduction import Budget, Reproduction, requires, stages_of
 from locustjump.sim.engine.backends import ThreadBackend
@@ -73,7 +74,7 @@ def parse_seeds(text: str) -> list[int]:
         a, b = int(lo), int(hi or lo)
         if b < a:
             raise ValueError(f"{text!r}: the range {part} is empty")
-        if b > SEED.hi:
+        if b > INT64_MAX:
             raise ValueError(f"{text!r}: a seed must be {SEED}, not {b}")
         if b - a + len(seeds) >= MAX_SEEDS:
             raise ValueError(f"{text!r}: more than {MAX_SEEDS} seeds")

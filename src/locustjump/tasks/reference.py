@@ -13,7 +13,8 @@ import numpy as np
 from locustjump.ranges import renamed
 from locustjump.sim import model as lm
 from locustjump.sim.analysis import find_jumps, stuck_overturned
-from locustjump.sim.engine.rollout import DEFAULT_ENGINE, N_STEPS, rollout
+from locustjump.sim.engine.job import N_STEPS
+from locustjump.sim.engine.rollout import DEFAULT_ENGINE, rollout
 from locustjump.sim.scene import Flat, Scene
 from locustjump.tasks.rules import CHANGE_TIME, DEFAULT_CHANGE_TIME, RuleController
 from locustjump.tasks.starts import ready_state
