@@ -223,12 +223,13 @@ class Debris(Flat):
             raise ValueError(
                 f"the field is too large: its height grid would hold {cells:,.0f} "
                 f"cells of {HEIGHT_CELL_BL:g} body lengths (at most {MAX_CELLS:,}); "
-                "make it shorter or narrower"
+                "make it shorter or narrower (length, behind, width, size_max)"
             )
         if self.count > MAX_BOXES:
             raise ValueError(
-                f"the field holds {self.count:,} boxes (area / spacing^2); at most "
-                f"{MAX_BOXES:,}: raise spacing or make the field smaller"
+                f"the field holds {self.count:,} boxes ((length + behind) x width "
+                f"/ spacing^2); at most {MAX_BOXES:,}: raise spacing or make the "
+                "field smaller"
             )
 
     @property
