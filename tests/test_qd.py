@@ -315,7 +315,7 @@ def test_an_elite_re_simulates_to_its_fitness_and_descriptors(qd_run, tmp_path):
         (("--elite", "99"), "--elite 99: elite 99 does not exist"),
         (("--cell", "9,9,9"), "the grid has 2 descriptors"),
         (("--cell", "10,0"), "outside the grid"),
-        (("--cell", "x"), "--cell must be indices"),
+        (("--cell", "x"), "--cell must be integers separated by commas"),
         (("--elite", "0", "--cell", "0,0"), "not allowed with"),
     ],
 )

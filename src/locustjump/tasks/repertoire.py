@@ -28,6 +28,7 @@ from typing import Any
 
 import numpy as np
 
+from locustjump.ranges import Range
 from locustjump.sim.controller import Controller
 from locustjump.sim.scene import Terrains
 from locustjump.tasks.base import option
@@ -54,12 +55,8 @@ class RepertoireOptions(SwitchOptions):
         "the kick repertoire's best elites the switcher "
         f"chooses among, with getup and return-legs (default {DEFAULT_ELITES})",
         "K",
-    )
-
-    def __post_init__(self) -> None:
-        super().__post_init__()
-        if not 1 <= self.elites <= MAX_ELITES:
-            raise ValueError(f"elites must be in [1, {MAX_ELITES}], got {self.elites}")
+        Range(1, MAX_ELITES, integer=True),
+    )  # checked with the others' ranges (SwitchOptions' check_settings)
 
 
 class ComposedRepertoire(Composed):
