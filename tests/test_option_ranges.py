@@ -29,10 +29,9 @@ from hypothesis import strategies as st
 
 from locustjump.cli import main
 from locustjump.cli.parser import build_parser
-from locustjump.evo import CMAParams, RandomSearchParams
+from locustjump.evo import optimizer_kinds, params_class
 from locustjump.rundir.config import TrainConfig
 from locustjump.sim.scene import Debris, Terrains
-from locustjump.tasks.composed import SwitchOptions
 
 ROOT = Path(__file__).resolve().parents[1]
 SHIPPED = ROOT / "results" / "quick-seed0"
@@ -254,15 +253,14 @@ TOML_EXTREMES = [0, -1, 1, 5e-324, -5e-324, 1.7976931348623157e308, float("nan")
 
 
 def _configs() -> dict[str, dict]:
-    """A valid ``config.toml`` table for each kind of table a run may hold."""
-    scene = Terrains(Debris())
-    return {
-        "rcga": TrainConfig().to_dict(),
-        "cma": TrainConfig(optimizer=CMAParams()).to_dict(),
-        "random": TrainConfig(optimizer=RandomSearchParams(), scene=scene).to_dict(),
-        "composed": TrainConfig(behaviour="composed",
-                                options=SwitchOptions()).to_dict(),
-    }  # fmt: skip
+    """A valid ``config.toml`` table for each kind of table a run may hold:
+    every optimizer's settings (a new one is walked too), a seeded scene, a
+    behaviour's options."""
+    out = {k: TrainConfig(optimizer=params_class(k)()).to_dict()
+           for k in optimizer_kinds()}  # fmt: skip
+    out["debris"] = TrainConfig(scene=Terrains(Debris())).to_dict()
+    out["composed"] = TrainConfig(behaviour="composed").to_dict()
+    return out
 
 
 def _keys() -> list[tuple[str, str | None, str]]:

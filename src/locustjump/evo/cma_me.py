@@ -17,7 +17,9 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from locustjump.evo.qd import QDOptimizer, QDParams, import_ribs
+from locustjump.evo.base import MAX_GENE_SCALE
+from locustjump.evo.qd import EMITTERS, QDOptimizer, QDParams, import_ribs
+from locustjump.ranges import Range, setting
 
 
 @dataclass(frozen=True)
@@ -27,13 +29,10 @@ class CMAMEParams(QDParams):
     kind: ClassVar[str] = "cma-me"
     #: a CMA-ES needs two genomes a generation to rank
     min_batch: ClassVar[int] = 2
-    emitters: int = 5  # CMA-ES emitters (Fontaine et al.: 15 of 37 genomes)
-    sigma0: float = 0.5  # initial step size of each (as the cma optimizer's)
-
-    def __post_init__(self) -> None:
-        super().__post_init__()
-        if not (np.isfinite(self.sigma0) and 0 < self.sigma0 <= 1.0e6):
-            raise ValueError(f"sigma0 must be in (0, 1e6], got {self.sigma0}")
+    #: CMA-ES emitters (Fontaine et al.: 15 of 37 genomes)
+    emitters: int = setting(5, EMITTERS)
+    #: initial step size of each (as the cma optimizer's)
+    sigma0: float = setting(0.5, Range(0.0, MAX_GENE_SCALE, lo_open=True))
 
 
 class CMAME(QDOptimizer):

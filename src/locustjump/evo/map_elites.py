@@ -22,12 +22,14 @@ from typing import Any, ClassVar, Literal
 
 import numpy as np
 
+from locustjump.evo.base import MAX_GENE_SCALE
 from locustjump.evo.qd import QDOptimizer, QDParams, import_ribs
+from locustjump.ranges import Range, setting
 
 Variation = Literal["gaussian", "iso-line"]
 VARIATIONS: tuple[str, ...] = ("gaussian", "iso-line")
-#: bound on every gene-scale setting (as the RCGA's)
-MAX_GENE_SCALE = 1.0e6
+#: a gene-scale setting (as the RCGA's, but more than 0)
+_GENE_SCALE = Range(0.0, MAX_GENE_SCALE, lo_open=True)
 
 
 @dataclass(frozen=True)
@@ -37,9 +39,11 @@ class MapElitesParams(QDParams):
     kind: ClassVar[str] = "map-elites"
     variation: Variation = "gaussian"
     #: (gene units) the Gaussian's standard deviation; iso-line: the isotropic part's
-    sigma: float = 0.1
-    line_sigma: float = 0.2  # iso-line only: the spread along the line (-)
-    init_scale: float = 1.0  # first genomes uniform in [-init_scale, init_scale]
+    sigma: float = setting(0.1, _GENE_SCALE)
+    #: iso-line only: the spread along the line (-)
+    line_sigma: float = setting(0.2, _GENE_SCALE)
+    #: first genomes uniform in [-init_scale, init_scale]
+    init_scale: float = setting(1.0, _GENE_SCALE)
 
     def __post_init__(self) -> None:
         super().__post_init__()
@@ -48,10 +52,6 @@ class MapElitesParams(QDParams):
                 f"variation must be one of {', '.join(VARIATIONS)}, "
                 f"got {self.variation!r}"
             )
-        for name in ("sigma", "line_sigma", "init_scale"):
-            v = getattr(self, name)
-            if not (np.isfinite(v) and 0 < v <= MAX_GENE_SCALE):
-                raise ValueError(f"{name} must be in (0, {MAX_GENE_SCALE:g}], got {v}")
 
 
 class MapElites(QDOptimizer):

@@ -41,13 +41,16 @@ from typing import Any, ClassVar
 import numpy as np
 
 from locustjump.evo.archive import Archive
-from locustjump.evo.base import Optimizer
+from locustjump.evo.base import MAX_POPULATION, POPULATION, Optimizer
+from locustjump.ranges import Range, check_settings, setting
 
 #: cells of a grid at most (each holds a genome: 100 x 100 of 144 genes is
 #: 11.5 MB in the archive and again in each checkpoint)
 MAX_CELLS = 10_000
 #: cells per descriptor unless ``cells`` says otherwise
 DEFAULT_CELLS = 10
+#: ``emitters``: pyribs emitters, each asked for its share of the population
+EMITTERS = Range(1, MAX_POPULATION, integer=True)
 
 #: what ``[optimizer]``'s array keys hold (the config reader reads this)
 _NAMES = {"item": ""}
@@ -66,8 +69,9 @@ class QDParams:
     """
 
     kind: ClassVar[str]
-    population: int = 50  # genomes per generation, shared among the emitters
-    emitters: int = 1  # pyribs emitters, each asked for its share in turn
+    #: genomes per generation, shared among the emitters
+    population: int = setting(50, POPULATION)
+    emitters: int = setting(1, EMITTERS)  # each asked for its share in turn
     #: the task's behaviour descriptors the grid is over, by name
     descriptors: tuple[str, ...] = field(default=(), metadata=_NAMES)
     #: (low, high) of the grid per descriptor, in the descriptor's unit
@@ -75,11 +79,10 @@ class QDParams:
     cells: tuple[int, ...] = ()  # cells of the grid per descriptor
     #: subtracted from every elite's fitness in the QD score (the task's
     #: lowest fitness: pyribs' qd_score_offset)
-    qd_offset: float = 0.0
+    qd_offset: float = setting(0.0, Range())
 
     def __post_init__(self) -> None:
-        if self.emitters < 1:
-            raise ValueError(f"emitters must be >= 1, got {self.emitters}")
+        check_settings(self)
         if self.population < self.emitters * self.min_batch:
             raise ValueError(
                 f"population must be >= {self.min_batch} per emitter "
@@ -100,8 +103,6 @@ class QDParams:
                 f"cells {list(self.cells)} make {int(np.prod(self.cells)):,} "
                 f"cells; at most {MAX_CELLS:,}"
             )
-        if not np.isfinite(self.qd_offset):
-            raise ValueError(f"qd_offset must be finite, got {self.qd_offset}")
         if self.descriptors:
             d = len(self.descriptors)
             for name in ("ranges", "cells"):
