@@ -60,6 +60,8 @@ MODULES: dict[str, tuple[str, ...]] = {
         "tests/test_sensors_controller.py",
     ),
     "rundir/checkpoint.py": ("tests/test_checkpoint_contract.py",),
+    "evo/base.py": ("tests/test_optimizer_contract.py", "tests/test_rcga_behaviour.py"),
+    "evo/random_search.py": ("tests/test_optimizer_contract.py",),
 }
 
 #: mutant name -> (its mutated line, as mutmut's diff shows it, without
