@@ -80,6 +80,9 @@ _FRAMES = (
     "names the caller's file, but not under mutmut, whose trampoline adds "
     "frames between the caller and RCGA.__init__"
 )
+_ZIP = (
+    "the lengths were compared just above: a row of another length has already raised"
+)
 EQUIVALENT: dict[str, tuple[str, str]] = {
     "locustjump.evo.rcga.x_sbx__mutmut_10": (
         "+ u < 0.5,",
@@ -125,6 +128,13 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
         'kind="STABLE"',
         "NumPy reads the sort kind case-insensitively (checked: the same "
         "order as 'stable' where the default sort differs)",
+    ),
+    "locustjump.rundir.metrics.x_parse_row__mutmut_10": ("strict=None", _ZIP),
+    "locustjump.rundir.metrics.x_parse_row__mutmut_13": ("zip(names, cells, )", _ZIP),
+    "locustjump.rundir.metrics.x_parse_row__mutmut_14": ("strict=False", _ZIP),
+    "locustjump.rundir.metrics.x_read_metrics__mutmut_10": (
+        "if (rows) or True else",
+        "np.array([], dtype) is the same empty array as np.zeros(0, dtype)",
     ),
 }
 

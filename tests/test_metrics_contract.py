@@ -257,3 +257,52 @@ def test_too_few_rows_for_the_checkpoint_or_other_columns_are_refused(tmp_path):
     ):
         metrics.truncate_metrics(p, 1, row(1, 1.5, 10, 300, 0.5), ("sigma",))
     assert p.read_text() == HEADER + "\n" + row(1)
+
+
+def test_a_last_line_ending_in_a_lone_carriage_return_is_cut_short(tmp_path):
+    # CRLF lines read as lines; a write cut between \r and \n is cut short
+    p = write(tmp_path / "m.csv", "")
+    p.write_bytes(
+        (HEADER + "\r\n" + row(1)[:-1] + "\r\n" + row(2)[:-1] + "\r").encode()
+    )
+    np.testing.assert_array_equal(metrics.read_metrics(p)["generation"], [1])
+
+
+def test_a_path_that_cannot_be_read_says_why(tmp_path):
+    p = write(tmp_path / "file", "") / "metrics.csv"  # under a file
+    with pytest.raises(
+        UserError, match=exactly(f"{p}: cannot be read (Not a directory)")
+    ):
+        metrics.read_metrics(p)
+
+
+def test_long_cells_and_lines_are_quoted_to_40_and_80_characters(tmp_path):
+    long = "9" * 100
+    p = write(tmp_path / "a.csv", f"{long}\n")
+    with pytest.raises(UserError, match=re.escape(f"got {long[:80]!r}")):
+        metrics.read_metrics(p)
+    q = write(tmp_path / "b.csv", f"{HEADER}\n{long},{long}\n")
+    message = (
+        f"{q}: line 2: 2 columns, the header names 8: {(long + ',' + long)[:80]!r}"
+    )
+    with pytest.raises(UserError, match=exactly(message)):
+        metrics.read_metrics(q)
+    r = write(tmp_path / "c.csv", f"{HEADER}\n1,{'x' * 50},1,1,1,1,1,1\n")
+    message = f"{r}: line 2: best must be a number, got {'x' * 40!r}"
+    with pytest.raises(UserError, match=exactly(message)):
+        metrics.read_metrics(r)
+
+
+def test_generations_done_is_the_last_row_s(tmp_path):
+    write(tmp_path / "metrics.csv", HEADER + "\n" + row(1) + row(2) + row(3))
+    assert metrics.generations_done(tmp_path) == 3
+
+
+def test_a_header_longer_than_4096_characters_is_not_read_for_its_columns(tmp_path):
+    extra = ",c" * 3000
+    line = (HEADER + extra)[:4096]
+    assert len(line) == 4096
+    p = write(tmp_path / "m.csv", line + "\n")
+    assert metrics.metrics_extra_columns(p) is None
+    q = write(tmp_path / "n.csv", line[:4095] + "\n")
+    assert metrics.metrics_extra_columns(q) == tuple(line[:4095].split(",")[8:])
