@@ -80,6 +80,7 @@ _FRAMES = (
     "names the caller's file, but not under mutmut, whose trampoline adds "
     "frames between the caller and RCGA.__init__"
 )
+_TEMPLATE = "a type template for coerce: only its type is read"
 _ZIP = (
     "the lengths were compared just above: a row of another length has already raised"
 )
@@ -136,6 +137,34 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
         "if (rows) or True else",
         "np.array([], dtype) is the same empty array as np.zeros(0, dtype)",
     ),
+    "locustjump.rundir.config.xǁTrainConfigǁfrom_dict__mutmut_8": (
+        '"seed": 1,',
+        _TEMPLATE,
+    ),
+    "locustjump.rundir.config.xǁTrainConfigǁfrom_dict__mutmut_11": (
+        '"generations": 1001,',
+        _TEMPLATE,
+    ),
+    "locustjump.rundir.config.xǁTrainConfigǁfrom_dict__mutmut_14": (
+        '"frozen_digest": "XXXX"',
+        _TEMPLATE,
+    ),
+    "locustjump.rundir.config.x_terrains_from_table__mutmut_17": (
+        '+ top = {"terrains": 2,',
+        _TEMPLATE + " (the default count is the one given to Terrains below)",
+    ),
+    "locustjump.rundir.config.x_terrains_from_table__mutmut_20": (
+        '"aggregate": "XXmeanXX"}',
+        _TEMPLATE + " (the default is the one given to Terrains below)",
+    ),
+    "locustjump.rundir.config.x_terrains_from_table__mutmut_21": (
+        '"aggregate": "MEAN"}',
+        _TEMPLATE + " (the default is the one given to Terrains below)",
+    ),
+    "locustjump.rundir.config.x_coerce__mutmut_37": ("coerce(v, 1, ", _TEMPLATE),
+    "locustjump.rundir.config.x_coerce__mutmut_55": ("strict=None", _ZIP),
+    "locustjump.rundir.config.x_coerce__mutmut_58": ("zip(value, default, )", _ZIP),
+    "locustjump.rundir.config.x_coerce__mutmut_59": ("strict=False", _ZIP),
 }
 
 #: what the table leaves out, and why (docs/mutation.md)

@@ -266,3 +266,28 @@ def test_from_table_names_the_section():
         C.from_table(CommonOptions, {"x": 1}, "options", SRC)
     with pytest.raises(UserError, match=re.escape(f"{SRC}: [options] score_substeps ")):
         C.from_table(CommonOptions, {"score_substeps": [2, 2]}, "options", SRC)
+
+
+def test_a_debris_table_written_before_its_walls_has_none():
+    # a table that names every other field but lacks the walls was written
+    # before they existed: no walls, not today's defaults
+    table = {k: v for k, v in vars(Debris(seed=2)).items()}
+    del table["wall_height"], table["wall_margin"]
+    t = C.terrains_from_table({"kind": "debris", **table}, SRC)
+    assert (t.scene.wall_height, t.scene.wall_margin) == (0.0, 0.0)
+    assert Debris().wall_height != 0.0
+
+
+def test_errors_inside_a_table_name_the_file_and_the_key():
+    with pytest.raises(UserError, match=exactly(f"{SRC}: optimizer must be a table")):
+        C.optimizer_from_table(3, SRC)
+    message = f"{SRC}: options.score_substeps must be an array of integers, got 'x'"
+    with pytest.raises(UserError, match=exactly(message)):
+        C.from_table(CommonOptions, {"score_substeps": "x"}, "options", SRC)
+    with pytest.raises(UserError, match=re.escape(f"{SRC}: written by a newer")):
+        C.TrainConfig.from_dict({"format": 99}, SRC)
+
+
+def test_a_setting_of_a_type_coerce_does_not_know_is_a_programming_error():
+    with pytest.raises(TypeError, match=exactly("<class 'dict'>")):
+        C.coerce(1, {}, "k", SRC)
