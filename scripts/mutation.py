@@ -186,6 +186,11 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
         "out=obs[:, 6:10]",
         "obs has 9 columns: a slice to 10 ends at 9 as well",
     ),
+    "locustjump.sim.actuation.x_apply_deltas__mutmut_29": (
+        "(out is None) and False else out",
+        "without out the result is a new array either way: step is itself "
+        "a fresh array (one allocation more, the same numbers)",
+    ),
 }
 
 #: what the table leaves out, and why (docs/mutation.md)
