@@ -133,6 +133,34 @@ def test_a_checkpoint_from_before_pluggable_optimizers_is_the_rcga_s(tmp_path):
             {"metrics_row": np.array("12,1,1,1,1,1,1,1\n")},
             "metrics_row is not the row of generation 2: '12,1,1,1,1,1,1,1'",
         ),
+        (
+            {"behaviour": np.array(1)},
+            "behaviour must be text, got a int64 array of shape ()",
+        ),
+        (
+            {"config_hash": np.array([CFG.hash()])},
+            "config_hash must be text, got a <U16 array of shape (1,)",
+        ),
+        (
+            {"opt_generation": np.array(2.0)},
+            "generation must be an integer, got a float64 array of shape ()",
+        ),
+        (
+            {"best_fitness": np.array("1")},
+            "best_fitness must be a float64 number, got a <U1 array of shape ()",
+        ),
+        (
+            {"best_generation": np.array(1.0)},
+            "best_generation must be an integer, got a float64 array of shape ()",
+        ),
+        (
+            {"metrics_row": np.array(2)},
+            "metrics_row must be text, got a int64 array of shape ()",
+        ),
+        (
+            {"metrics_row": np.array("2," + "9" * 100)},
+            f"metrics_row is not the row of generation 2: {('2,' + '9' * 100)[:60]!r}",
+        ),
     ],
 )
 def test_each_disagreement_with_the_run_is_one_line(tmp_path, changes, message):
