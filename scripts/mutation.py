@@ -242,11 +242,12 @@ def prepare(module: str, fresh: bool) -> Path:
 
 
 def meta(module: str) -> dict[str, int | None]:
-    """Exit code of every mutant of ``module`` (None: not run)."""
+    """Exit code of every mutant of ``module`` that has run."""
     path = scratch(module) / "mutants/src/locustjump" / (module + ".meta")
     if not path.is_file():
         return {}
     codes = json.loads(path.read_text())["exit_code_by_key"]
+    codes = {k: v for k, v in codes.items() if v is not None}  # not run (yet)
     patterns = FUNCTIONS.get(module)
     if patterns:
         codes = {k: v for k, v in codes.items() if any(fnmatch(k, p) for p in patterns)}
