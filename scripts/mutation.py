@@ -186,6 +186,10 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
         "out=obs[:, 6:10]",
         "obs has 9 columns: a slice to 10 ends at 9 as well",
     ),
+    "locustjump.evo.base.x_check_fitness__mutmut_8": (
+        ".reshape(-2)",
+        "NumPy reads any negative size in reshape as 'the rest' (checked)",
+    ),
     "locustjump.sim.actuation.x_apply_deltas__mutmut_29": (
         "(out is None) and False else out",
         "without out the result is a new array either way: step is itself "

@@ -13,7 +13,7 @@ import re
 import numpy as np
 import pytest
 
-from locustjump.evo import RCGA, RandomSearch, RandomSearchParams, RCGAParams
+from locustjump.evo import RCGA, Optimizer, RandomSearch, RandomSearchParams, RCGAParams
 from locustjump.evo.base import check_fitness, rng_from_state, rng_state
 
 
@@ -222,3 +222,45 @@ def test_random_search_state_keeps_the_best_and_is_checked():
         RandomSearch.from_state(
             2, RandomSearchParams(population=3), {**state, "generation": np.array(0)}
         )
+
+
+class Fixed(Optimizer):  # the base's own __init__
+    """Asks the rows it was given; learns nothing."""
+
+    rows = np.zeros((1, 3), dtype=np.int64)
+
+    def _ask(self):
+        return self.rows
+
+    def _tell(self, genomes, fitness):
+        return None
+
+    def _state(self):
+        return {}
+
+    def _set_state(self, state):
+        pass
+
+
+def test_the_base_s_defaults_and_what_ask_accepts():
+    opt = Fixed(3, RandomSearchParams(population=1))
+    assert opt.seed == 0 and len(opt.fitness) == 0
+    x = opt.ask()  # one genome is a generation; integers are asked as floats
+    assert x.shape == (1, 3) and x.dtype == np.float64
+    assert RandomSearch(2, RandomSearchParams(population=2)).seed == 0
+    told = RandomSearch(2, RandomSearchParams(population=2), 3)
+    told.ask()
+    told.tell([1.0, 2.0])
+    state = told.state()
+    assert RandomSearch.from_state(2, RandomSearchParams(population=2), state).seed == 0
+
+
+def test_random_search_s_init_scale_bound_is_exact_and_its_state_is_floats():
+    with pytest.raises(ValueError, match="init_scale must be in"):
+        RandomSearchParams(init_scale=1.0e6 + 0.5)
+    opt = RandomSearch(2, RandomSearchParams(population=2), 0)
+    opt.ask()
+    opt.tell([1.0, 2.0])
+    state = {**opt.state(), "fitness": np.array([1, 2])}
+    back = RandomSearch.from_state(2, RandomSearchParams(population=2), state)
+    assert back.fitness.dtype == np.float64
