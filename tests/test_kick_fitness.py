@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from locustjump.sim import model as lm
+from locustjump.sim.engine.job import RolloutResult
 from locustjump.sim.model import CONTROL_DT
 from locustjump.tasks.kick import Kick, KickReward, kick_fitness, takeoff
 
@@ -26,6 +27,18 @@ def test_eq1_is_the_largest_forward_times_upward_displacement_from_the_start():
     # never forward and up at once: 0
     b = path([(10, 1), (9, 2), (12, 0.5), (10, 1), (10, 1)])
     np.testing.assert_array_equal(kick_fitness(np.stack([a, b])), [3.0, 0.0])
+
+
+def test_an_episode_s_fitness_is_eq1_of_its_recorded_positions():
+    a = path([(10, 1), (11, 3), (13, 2)])
+    b = path([(0, 0), (1, 1), (0, 0)])
+    res = RolloutResult(
+        {"qpos": np.stack([a, b]), "obs": np.zeros((2, 3, 9))},
+        np.zeros(2, bool),
+        np.array([2, 2]),
+    )
+    fitness = Kick().episode_fitness(res, lm.LocustParams())
+    np.testing.assert_array_equal(fitness, [3.0, 1.0])
 
 
 def test_the_dense_reward_adds_up_to_eq1_and_is_never_negative():
