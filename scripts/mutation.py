@@ -64,6 +64,9 @@ MODULES: dict[str, tuple[str, ...]] = {
     "evo/base.py": ("tests/test_optimizer_contract.py", "tests/test_rcga_behaviour.py"),
     "evo/random_search.py": ("tests/test_optimizer_contract.py",),
     "tasks/kick.py": ("tests/test_kick_fitness.py",),
+    "tasks/getup.py": ("tests/test_task_fitness.py",),
+    "tasks/return_legs.py": ("tests/test_task_fitness.py",),
+    "tasks/base.py": ("tests/test_task_fitness.py",),
 }
 
 #: modules of which only some functions are mutated (mutmut's name patterns):
@@ -74,6 +77,21 @@ FUNCTIONS: dict[str, tuple[str, ...]] = {
         "locustjump.tasks.kick.x_takeoff__mutmut_*",
         "locustjump.tasks.kick.xǁKickRewardǁ*",
         "locustjump.tasks.kick.xǁKickǁepisode_fitness__mutmut_*",
+    ),
+    "tasks/getup.py": (
+        "locustjump.tasks.getup.x_up_z__mutmut_*",
+        "locustjump.tasks.getup.x_getup_summary__mutmut_*",
+        "locustjump.tasks.getup.xǁUpRewardǁ*",
+        "locustjump.tasks.getup.xǁGetUpǁepisode_fitness__mutmut_*",
+    ),
+    "tasks/return_legs.py": (
+        "locustjump.tasks.return_legs.x_joint_errors__mutmut_*",
+        "locustjump.tasks.return_legs.xǁLegsRewardǁ*",
+        "locustjump.tasks.return_legs.xǁReturnLegsǁepisode_fitness__mutmut_*",
+    ),
+    "tasks/base.py": (
+        "locustjump.tasks.base.xǁBehaviourǁfitness__mutmut_*",
+        "locustjump.tasks.base.xǁBehaviourǁfitness_terms__mutmut_*",
     ),
 }
 
