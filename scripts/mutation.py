@@ -67,6 +67,7 @@ MODULES: dict[str, tuple[str, ...]] = {
     "tasks/getup.py": ("tests/test_task_fitness.py",),
     "tasks/return_legs.py": ("tests/test_task_fitness.py",),
     "tasks/base.py": ("tests/test_task_fitness.py",),
+    "tasks/composed.py": ("tests/test_task_fitness.py",),
 }
 
 #: modules of which only some functions are mutated (mutmut's name patterns):
@@ -92,6 +93,10 @@ FUNCTIONS: dict[str, tuple[str, ...]] = {
     "tasks/base.py": (
         "locustjump.tasks.base.xǁBehaviourǁfitness__mutmut_*",
         "locustjump.tasks.base.xǁBehaviourǁfitness_terms__mutmut_*",
+    ),
+    "tasks/composed.py": (
+        "locustjump.tasks.composed.x_successive_fitness__mutmut_*",
+        "locustjump.tasks.composed.x_successive_terms__mutmut_*",
     ),
 }
 

@@ -10,6 +10,11 @@ import pytest
 from locustjump.sim import model as lm
 from locustjump.sim.engine.job import RolloutResult
 from locustjump.sim.model import CONTROL_DT
+from locustjump.tasks.composed import (
+    PROGRESS_WEIGHT,
+    successive_fitness,
+    successive_terms,
+)
 from locustjump.tasks.getup import (
     SUCCESS_UZ,
     GetUp,
@@ -119,3 +124,31 @@ def test_fitness_is_the_mean_over_start_states_with_unstable_episodes_worst():
     assert Kick().worst_fitness == 0.0 and GetUp.worst_fitness == -1.0
     assert ReturnLegs.worst_fitness == -4 * np.pi
     assert GetUp().episode_terms(res, P) == {}
+
+
+# --- successive jumping (Eq. 4, and its terrain form) ----------------------------
+
+
+class Level:
+    """A terrain whose ground lies 0.5 m up everywhere."""
+
+    is_flat = False
+
+    def heights(self, x, y, body_length):
+        return np.full(np.shape(x), 0.5)
+
+
+def test_eq4_sums_the_height_after_the_start_and_a_terrain_adds_progress():
+    q = np.zeros((2, 4, 7))
+    q[0, :, 2] = [5.0, 1.0, 2.0, 3.0]  # the start is not scored
+    q[1, :, 2] = [0.0, 0.5, 0.5, 0.5]
+    q[:, :, 0] = [1.0, 1.1, 1.2, 1.25]
+    height, distance = successive_terms(q, P)
+    np.testing.assert_array_equal(height, [6.0, 1.5])
+    np.testing.assert_array_equal(distance, [0.0, 0.0])
+    np.testing.assert_array_equal(successive_fitness(q, P), [6.0, 1.5])
+    height, distance = successive_terms(q, P, Level())
+    np.testing.assert_allclose(height, [4.5, 0.0])
+    np.testing.assert_allclose(distance, [PROGRESS_WEIGHT * 0.25] * 2)
+    np.testing.assert_allclose(successive_fitness(q, P, Level()), [54.5, 50.0])
+    assert PROGRESS_WEIGHT == 200.0
