@@ -63,6 +63,8 @@ MODULES: dict[str, tuple[str, ...]] = {
     "rundir/checkpoint.py": ("tests/test_checkpoint_contract.py",),
     "evo/base.py": ("tests/test_optimizer_contract.py", "tests/test_rcga_behaviour.py"),
     "evo/random_search.py": ("tests/test_optimizer_contract.py",),
+    "evo/cma.py": ("tests/test_cma_contract.py",),
+    "evo/__init__.py": ("tests/test_optimizer_contract.py",),
     "tasks/kick.py": ("tests/test_kick_fitness.py",),
     "tasks/getup.py": ("tests/test_task_fitness.py",),
     "tasks/return_legs.py": ("tests/test_task_fitness.py",),

@@ -264,3 +264,51 @@ def test_random_search_s_init_scale_bound_is_exact_and_its_state_is_floats():
     state = {**opt.state(), "fitness": np.array([1, 2])}
     back = RandomSearch.from_state(2, RandomSearchParams(population=2), state)
     assert back.fitness.dtype == np.float64
+
+
+# --- evo/__init__.py: the registry ---------------------------------------------
+
+
+def test_the_registry_names_what_a_class_lacks(monkeypatch):
+    import locustjump.evo as evo
+
+    monkeypatch.setattr(evo, "_REGISTRY", dict(evo._REGISTRY))
+    with pytest.raises(
+        TypeError, match=exactly("dict is not a subclass of locustjump.evo.Optimizer")
+    ):
+        evo.register(dict)
+    with pytest.raises(
+        TypeError, match=exactly("3 is not a subclass of locustjump.evo.Optimizer")
+    ):
+        evo.register(3)
+
+    class Half(Optimizer):
+        def _ask(self): ...
+
+    with pytest.raises(
+        TypeError, match=exactly("Half does not define _set_state, _state, _tell")
+    ):
+        evo.register(Half)
+
+    class NoParams(Fixed):
+        pass
+
+    with pytest.raises(
+        TypeError, match=exactly("NoParams has no Params settings class")
+    ):
+        evo.register(NoParams)
+
+    class Hill(Fixed):
+        Params = type("HillParams", (), {"kind": "hill", "population": 1})
+
+    assert evo.register(Hill) is Hill
+    assert evo.optimizer_kinds() == ("rcga", "cma", "random", "hill")
+    assert evo.params_class("hill") is Hill.Params
+    assert type(evo.make_optimizer(RandomSearchParams(2), 3, 5)) is RandomSearch
+    opt = evo.make_optimizer(RCGAParams(population=4, elite=1), 3, 5)
+    assert type(opt) is RCGA and opt.seed == 5 and opt.num_params == 3
+    with pytest.raises(
+        ValueError,
+        match=exactly("unknown optimizer 'sa'; choose from rcga, cma, random, hill"),
+    ):
+        evo.make_optimizer(type("P", (), {"kind": "sa"})(), 3, 0)
