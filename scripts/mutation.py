@@ -215,6 +215,10 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
         ".reshape(-2)",
         "NumPy reads any negative size in reshape as 'the rest' (checked)",
     ),
+    "locustjump.tasks.getup.x_getup_summary__mutmut_20": (
+        "reached.argmax(axis=1), -2)",
+        "the mark of 'never' is only compared with >= 0: -1 and -2 read the same",
+    ),
     "locustjump.sim.actuation.x_apply_deltas__mutmut_29": (
         "(out is None) and False else out",
         "without out the result is a new array either way: step is itself "
