@@ -219,6 +219,14 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
         "reached.argmax(axis=1), -2)",
         "the mark of 'never' is only compared with >= 0: -1 and -2 read the same",
     ),
+    "locustjump.tasks.base.xǁBehaviourǁfitness__mutmut_19": (
+        ".reshape(-2, k)",
+        "NumPy reads any negative size in reshape as 'the rest' (checked)",
+    ),
+    "locustjump.tasks.base.xǁBehaviourǁfitness_terms__mutmut_27": (
+        ".reshape(-2, k)",
+        "NumPy reads any negative size in reshape as 'the rest' (checked)",
+    ),
     "locustjump.sim.actuation.x_apply_deltas__mutmut_29": (
         "(out is None) and False else out",
         "without out the result is a new array either way: step is itself "

@@ -152,3 +152,26 @@ def test_eq4_sums_the_height_after_the_start_and_a_terrain_adds_progress():
     np.testing.assert_allclose(distance, [PROGRESS_WEIGHT * 0.25] * 2)
     np.testing.assert_allclose(successive_fitness(q, P, Level()), [54.5, 50.0])
     assert PROGRESS_WEIGHT == 200.0
+
+
+class LegsTwoStarts(ReturnLegs):
+    """Returning the legs from two start states (without settling them)."""
+
+    def start_states(self, p):
+        return [0, 1]
+
+    def episode_terms(self, res, p):
+        return {"legs": self.episode_fitness(res, p)}
+
+
+def test_scoring_reads_the_episodes_with_the_model_s_parameters():
+    # each episode's error is its own: 0.4 and 0.2 rad summed over the joints
+    obs = np.zeros((2, 2, 9))
+    obs[:, :, 0:4] = P.ready_angles()
+    obs[0, 1, 0:4] += 0.1
+    obs[1, 1, 0] += 0.2
+    res = result(obs)
+    np.testing.assert_allclose(ReturnLegs().episode_fitness(res, P), [-0.4, -0.2])
+    beh = LegsTwoStarts()
+    np.testing.assert_allclose(beh.fitness(res, P), [-0.3])
+    np.testing.assert_allclose(beh.fitness_terms(res, P)["legs"], [-0.3])
