@@ -175,3 +175,12 @@ def test_scoring_reads_the_episodes_with_the_model_s_parameters():
     beh = LegsTwoStarts()
     np.testing.assert_allclose(beh.fitness(res, P), [-0.3])
     np.testing.assert_allclose(beh.fitness_terms(res, P)["legs"], [-0.3])
+
+
+def test_eq4_takes_any_leading_shape_and_its_flat_distance_is_zeros_like_it():
+    q = np.zeros((2, 3, 4, 7))
+    q[..., 2] = 1.0
+    height, distance = successive_terms(q, P)
+    np.testing.assert_array_equal(height, np.full((2, 3), 3.0))
+    assert distance.shape == (2, 3) and distance.dtype == np.float64
+    assert not distance.any()
