@@ -381,6 +381,7 @@ def label(module: str) -> str:
 
 def write_doc(results: dict[str, dict | None]) -> None:
     rows, details = [], []
+    total = {"mutants": 0, "killed": 0, "eq": 0, "sv": 0, "wall": 0.0}
     for module, s in results.items():
         if s is None:
             rows.append(f"| {label(module)} | not run | | | | | |")
@@ -391,6 +392,10 @@ def write_doc(results: dict[str, dict | None]) -> None:
             f"| {label(module)} | {s['mutants']} | {s['killed']} | {eq} | {sv} | "
             f"{100 * rate:.1f} % | {s['wall'] / 60:.1f} |"
         )
+        for k, v in zip(
+            total, (s["mutants"], s["killed"], eq, sv, s["wall"]), strict=True
+        ):
+            total[k] += v
         for name, line, why in s["equivalent"]:
             details.append(f"- equivalent `{name}`: `{line}` — {why}")
         for name, line in s["survived"]:
@@ -400,6 +405,11 @@ def write_doc(results: dict[str, dict | None]) -> None:
                 f"- **listed as equivalent but now** `{name}`: `{line}` "
                 f"(listed: `{expected}`)"
             )
+    rate = total["killed"] / max(total["mutants"] - total["eq"], 1)
+    rows.append(
+        f"| all | {total['mutants']} | {total['killed']} | {total['eq']} | "
+        f"{total['sv']} | {100 * rate:.1f} % | {total['wall'] / 60:.1f} |"
+    )
     DOC.write_text(
         "# Mutation testing\n\n"
         "Written by `python scripts/mutation.py` (`make mutation`; its docstring\n"
