@@ -122,6 +122,17 @@ _TEMPLATE = "a type template for coerce: only its type is read"
 _ZIP = (
     "the lengths were compared just above: a row of another length has already raised"
 )
+_FLOATS = "pycma asks float64 arrays, and Optimizer.ask converts to float64 anyway"
+_REPLAY = "each replayed row goes through tell, whose check_fitness makes it float64"
+_CASE = (
+    "pycma matches option names case-insensitively (checked: {'POPSIZE': "
+    "12} gives popsize 12)"
+)
+_SILENT = (
+    "at verbose -9 (or below) pycma neither displays nor logs, whatever "
+    "verb_disp and verb_log say (tests/test_cma_contract.py: no output, no "
+    "file)"
+)
 EQUIVALENT: dict[str, tuple[str, str]] = {
     "locustjump.evo.rcga.x_sbx__mutmut_10": (
         "+ u < 0.5,",
@@ -226,6 +237,27 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
     "locustjump.tasks.base.xǁBehaviourǁfitness_terms__mutmut_27": (
         ".reshape(-2, k)",
         "NumPy reads any negative size in reshape as 'the rest' (checked)",
+    ),
+    "locustjump.evo.cma.xǁCMAESǁ_ask__mutmut_2": ("dtype=None)", _FLOATS),
+    "locustjump.evo.cma.xǁCMAESǁ_ask__mutmut_4": ("self.es.ask(), )", _FLOATS),
+    "locustjump.evo.cma.xǁCMAESǁ_set_state__mutmut_3": ("dtype=None)", _REPLAY),
+    "locustjump.evo.cma.xǁCMAESǁ_set_state__mutmut_5": (
+        '["fitness_history"], )',
+        _REPLAY,
+    ),
+    "locustjump.evo.cma.xǁCMAESǁ_start__mutmut_4": ('"POPSIZE"', _CASE),
+    "locustjump.evo.cma.xǁCMAESǁ_start__mutmut_6": ('"SEED"', _CASE),
+    "locustjump.evo.cma.xǁCMAESǁ_start__mutmut_8": ('"RANDN"', _CASE),
+    "locustjump.evo.cma.xǁCMAESǁ_start__mutmut_12": ('"VERBOSE"', _CASE),
+    "locustjump.evo.cma.xǁCMAESǁ_start__mutmut_16": ('"VERB_LOG"', _CASE),
+    "locustjump.evo.cma.xǁCMAESǁ_start__mutmut_19": ('"VERB_DISP"', _CASE),
+    "locustjump.evo.cma.xǁCMAESǁ_start__mutmut_14": ('"verbose": -10', _SILENT),
+    "locustjump.evo.cma.xǁCMAESǁ_start__mutmut_17": ('"verb_log": 1', _SILENT),
+    "locustjump.evo.cma.xǁCMAESǁ_start__mutmut_20": ('"verb_disp": 1', _SILENT),
+    "locustjump.evo.x_register__mutmut_23": (
+        'getattr(cls, "__abstractmethods__", )',
+        "every subclass of Optimizer (an abc.ABC) has __abstractmethods__, so "
+        "the default is never used",
     ),
     "locustjump.sim.actuation.x_apply_deltas__mutmut_29": (
         "(out is None) and False else out",

@@ -86,3 +86,14 @@ def test_without_pycma_the_error_says_what_to_install(monkeypatch):
     message = "--optimizer cma needs the cma library: pip install 'locustjump[cma]'"
     with pytest.raises(ImportError, match=exactly(message)):
         CMAES(3)
+
+
+def test_cma_maximises_and_reports_only_numerical_stops(monkeypatch):
+    opt = CMAES(3, CMAParams(population=8), seed=0)
+    for _ in range(40):
+        x = opt.ask()
+        opt.tell(-np.sum((x - 0.3) ** 2, axis=1))
+    np.testing.assert_allclose(opt.es.mean, 0.3, atol=0.01)  # measured: 4e-4
+    reasons = {"tolfun": 1e-11, "maxiter": 3, "conditioncov": 1e14}
+    monkeypatch.setattr(opt.es, "stop", lambda: reasons)
+    assert opt.stop() == {"conditioncov": 1e14}

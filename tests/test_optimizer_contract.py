@@ -307,6 +307,7 @@ def test_the_registry_names_what_a_class_lacks(monkeypatch):
     assert type(evo.make_optimizer(RandomSearchParams(2), 3, 5)) is RandomSearch
     opt = evo.make_optimizer(RCGAParams(population=4, elite=1), 3, 5)
     assert type(opt) is RCGA and opt.seed == 5 and opt.num_params == 3
+    assert opt.params == RCGAParams(population=4, elite=1)
     with pytest.raises(
         ValueError,
         match=exactly("unknown optimizer 'sa'; choose from rcga, cma, random, hill"),
