@@ -14,7 +14,7 @@ so compiled code cached from the checkout is never run in place of a mutant.
 
 ``docs/mutation.md`` is written from the results of every module that has
 run: mutants, killed (a test failed; timeouts count), equivalent (listed in
-:data:`EQUIVALENT` with the reason, checked against the mutant's diff),
+:data:`EQUIVALENT` with the reason, matched by the mutant's diff),
 survived (no test failed, or no test reached it) and the kill rate
 ``killed / (mutants - equivalent)``.
 
@@ -102,8 +102,9 @@ FUNCTIONS: dict[str, tuple[str, ...]] = {
     ),
 }
 
-#: mutant name -> (its mutated line, as mutmut's diff shows it, without
-#: indentation; why no test can tell it from the original)
+#: mutant name -> (text of its mutated line, as mutmut's diff shows it,
+#: without indentation; why no test can tell it from the original); matched
+#: by function and text (:func:`listed`)
 _TIE = (
     "differs only when a uniform draw in [0, 1) equals the threshold exactly "
     "(probability 2**-53 a draw); both read 'with probability p' correctly"
@@ -380,29 +381,37 @@ def run(module: str, max_children: int, survivors: bool) -> float:
     return wall
 
 
+def listed(name: str, line: str) -> str | None:
+    """Why mutant ``name`` (its mutated line ``line``) is equivalent, if
+    :data:`EQUIVALENT` lists it: an entry of the same function whose mutated
+    text the line holds (mutmut numbers a function's mutants in order, so a
+    change to the function may move the number, not the text)."""
+    function = name.rpartition("__mutmut_")[0]
+    for entry, (text, why) in EQUIVALENT.items():
+        if entry.rpartition("__mutmut_")[0] == function and text in line:
+            return why
+    return None
+
+
 def summary(module: str) -> dict | None:
     codes = meta(module)
     if not codes:
         return None
     killed = [k for k, v in codes.items() if v in _KILLED]
-    equivalent, survived, stale = [], [], []
+    equivalent, survived = [], []
     for name in sorted(set(codes) - set(killed)):
         line = mutated_line(module, name)
-        if name in EQUIVALENT:
-            expected, why = EQUIVALENT[name]
-            if expected not in line:  # renumbered: the list must follow
-                stale.append((name, line, expected))
-            else:
-                equivalent.append((name, line, why))
-        else:
+        why = listed(name, line)
+        if why is None:
             survived.append((name, line))
+        else:
+            equivalent.append((name, line, why))
     wall = scratch(module) / "wall.txt"
     return {
         "mutants": len(codes),
         "killed": len(killed),
         "equivalent": equivalent,
         "survived": survived,
-        "stale": stale,
         "wall": float(wall.read_text()) if wall.is_file() else float("nan"),
     }
 
@@ -418,7 +427,7 @@ def write_doc(results: dict[str, dict | None]) -> None:
         if s is None:
             rows.append(f"| {label(module)} | not run | | | | | |")
             continue
-        eq, sv = len(s["equivalent"]), len(s["survived"]) + len(s["stale"])
+        eq, sv = len(s["equivalent"]), len(s["survived"])
         rate = s["killed"] / max(s["mutants"] - eq, 1)
         rows.append(
             f"| {label(module)} | {s['mutants']} | {s['killed']} | {eq} | {sv} | "
@@ -432,11 +441,6 @@ def write_doc(results: dict[str, dict | None]) -> None:
             details.append(f"- equivalent `{name}`: `{line}` — {why}")
         for name, line in s["survived"]:
             details.append(f"- **survived** `{name}`: `{line}`")
-        for name, line, expected in s["stale"]:
-            details.append(
-                f"- **listed as equivalent but now** `{name}`: `{line}` "
-                f"(listed: `{expected}`)"
-            )
     rate = total["killed"] / max(total["mutants"] - total["eq"], 1)
     rows.append(
         f"| all | {total['mutants']} | {total['killed']} | {total['eq']} | "
@@ -459,8 +463,8 @@ def write_doc(results: dict[str, dict | None]) -> None:
         + "\n## Equivalent and surviving mutants\n\n"
         "Equivalent: no test can tell the mutant from the original (the reason\n"
         "says why), or, where the reason says so, a test does but not under\n"
-        "mutmut. `scripts/mutation.py` checks each listed name against its\n"
-        "mutated line, so the list follows the code.\n\n"
+        "mutmut. `scripts/mutation.py` matches each listed mutant by its\n"
+        "function and its mutated text, not its number alone.\n\n"
         + ("\n".join(details) if details else "None.")
         + "\n"
     )
