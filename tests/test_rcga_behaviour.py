@@ -285,7 +285,7 @@ def test_elites_win_ties_and_tied_children_keep_their_order():
 def state_of(generation, population, fitness, seed=0):
     ga = RCGA(population.shape[1], RCGAParams(population=len(population)), seed)
     return {
-        **ga._state(),
+        **ga.state(),  # generation 0: its generator
         "generation": np.array(generation),
         "population": population,
         "fitness": fitness,
