@@ -291,3 +291,52 @@ def test_errors_inside_a_table_name_the_file_and_the_key():
 def test_a_setting_of_a_type_coerce_does_not_know_is_a_programming_error():
     with pytest.raises(TypeError, match=exactly("<class 'dict'>")):
         C.coerce(1, {}, "k", SRC)
+
+
+# --- [plugins]: where a run's classes came from -----------------------------------
+
+
+def plugin_params(module):
+    """An optimizer's settings class defined in ``module`` (a plugin's)."""
+    import dataclasses
+
+    cls = dataclasses.make_dataclass(
+        "HillParams", [("population", int, 4)], frozen=True
+    )
+    cls.kind, cls.__module__ = "hill", module
+    return cls
+
+
+def test_plugins_are_recorded_but_not_hashed(monkeypatch):
+    import locustjump.evo as evo
+
+    monkeypatch.setattr(evo, "_REGISTRY", dict(evo._REGISTRY))
+    runs = []
+    for module in ("hillpkg", "otherpkg"):
+        params = plugin_params(module)
+        evo._REGISTRY["hill"] = type("Hill", (), {"Params": params})
+        cfg = C.TrainConfig(optimizer=params())
+        runs.append((cfg.to_dict()["plugins"], cfg.hash()))
+    assert runs[0][0] == {"hillpkg": ""} and runs[1][0] == {"otherpkg": ""}
+    assert runs[0][1] == runs[1][1]  # the same experiment from either module
+    assert "plugins" not in C.TrainConfig().to_dict()
+
+
+def test_a_config_s_plugins_table_is_read_and_checked():
+    assert C.TrainConfig.from_dict({"plugins": {"x.y": "xdist"}}, SRC) == (
+        C.TrainConfig()
+    )
+    for bad in (3, {"m": 1}):
+        with pytest.raises(
+            UserError, match=exactly(f"{SRC}: plugins must be a table of strings")
+        ):
+            C.TrainConfig.from_dict({"plugins": bad}, SRC)
+    message = (
+        f"{SRC}: made with the plugin nosuch.mod (distribution nosuchdist), which "
+        "is not loaded here: install nosuchdist, or give --plugin nosuch.mod"
+    )
+    with pytest.raises(UserError, match=exactly(message)):
+        C.TrainConfig.from_dict(
+            {"plugins": {"nosuch.mod": "nosuchdist"}, "optimizer": {"kind": "hill"}},
+            SRC,
+        )

@@ -313,3 +313,57 @@ def test_the_registry_names_what_a_class_lacks(monkeypatch):
         match=exactly("unknown optimizer 'sa'; choose from rcga, cma, random, hill"),
     ):
         evo.make_optimizer(type("P", (), {"kind": "sa"})(), 3, 0)
+
+
+class Entry:
+    """An entry point of the optimizers' group, as importlib.metadata gives."""
+
+    def __init__(self, obj):
+        self.obj, self.dist = obj, None
+        self.name, self.module, self.value = "hill", "hillpkg", "hillpkg:Hill"
+
+    def load(self):
+        return self.obj
+
+
+def test_a_plugin_s_optimizer_is_loaded_once_and_only_when_asked_for(monkeypatch):
+    import locustjump.evo as evo
+    from locustjump import plugins
+
+    class Hill(Fixed):
+        Params = type("HillParams", (), {"kind": "hill", "population": 1})
+
+    calls = []
+
+    def entry_points(group):
+        calls.append(group)
+        return [Entry(Hill)] if group == plugins.OPTIMIZERS else []
+
+    monkeypatch.setattr(evo, "_REGISTRY", dict(evo._REGISTRY))
+    monkeypatch.setattr(plugins, "_loaded", set())
+    monkeypatch.setattr(plugins.importlib.metadata, "entry_points", entry_points)
+    assert evo.params_class("rcga") is RCGAParams  # known: nothing loaded
+    with pytest.raises(ValueError, match="unknown optimizer 5"):
+        evo.params_class(5)  # no name: nothing loaded
+    assert calls == []
+    assert evo.params_class("hill") is Hill.Params
+    assert calls == [plugins.OPTIMIZERS]
+    assert evo.optimizer_kinds() == ("rcga", "cma", "random", "hill")
+    assert calls == [plugins.OPTIMIZERS]  # once
+
+
+def test_all_kinds_include_the_plugins(monkeypatch):
+    import locustjump.evo as evo
+    from locustjump import plugins
+
+    class Hill(Fixed):
+        Params = type("HillParams", (), {"kind": "hill", "population": 1})
+
+    monkeypatch.setattr(evo, "_REGISTRY", dict(evo._REGISTRY))
+    monkeypatch.setattr(plugins, "_loaded", set())
+    monkeypatch.setattr(
+        plugins.importlib.metadata,
+        "entry_points",
+        lambda group: [Entry(Hill)] if group == plugins.OPTIMIZERS else [],
+    )
+    assert evo.optimizer_kinds() == ("rcga", "cma", "random", "hill")

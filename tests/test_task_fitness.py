@@ -178,9 +178,12 @@ def test_scoring_reads_the_episodes_with_the_model_s_parameters():
 
 
 def test_eq4_takes_any_leading_shape_and_its_flat_distance_is_zeros_like_it():
-    q = np.zeros((2, 3, 4, 7))
-    q[..., 2] = 1.0
+    q = np.zeros((2, 3, 5, 7))
+    q[..., 2] = [9.0, 1.0, 2.0, 3.0, 4.0]  # per step, the same for every episode
+    q[1, 2, :, 2] *= 2.0
     height, distance = successive_terms(q, P)
-    np.testing.assert_array_equal(height, np.full((2, 3), 3.0))
+    expected = np.full((2, 3), 10.0)
+    expected[1, 2] = 20.0
+    np.testing.assert_array_equal(height, expected)
     assert distance.shape == (2, 3) and distance.dtype == np.float64
     assert not distance.any()
