@@ -41,6 +41,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 SCRATCH = ROOT / ".mutation"
 DOC = ROOT / "docs" / "mutation.md"
+#: the wall time and date of the last run of every module from scratch
+LAST_RUN = SCRATCH / "last-run.txt"
 BIN = Path(sys.executable).parent
 
 #: module (under src/locustjump) -> the focused test files that state it
@@ -121,7 +123,8 @@ _FRAMES = (
 )
 _TEMPLATE = "a type template for coerce: only its type is read"
 _ZIP = (
-    "the lengths were compared just above: a row of another length has already raised"
+    "the lengths were compared just above: a row (or array) of another "
+    "length has already raised"
 )
 _FLOATS = "pycma asks float64 arrays, and Optimizer.ask converts to float64 anyway"
 _REPLAY = "each replayed row goes through tell, whose check_fitness makes it float64"
@@ -187,15 +190,15 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
         "if (rows) or True else",
         "np.array([], dtype) is the same empty array as np.zeros(0, dtype)",
     ),
-    "locustjump.rundir.config.xǁTrainConfigǁfrom_dict__mutmut_8": (
+    "locustjump.rundir.config.xǁTrainConfigǁ_from_dict__mutmut_8": (
         '"seed": 1,',
         _TEMPLATE,
     ),
-    "locustjump.rundir.config.xǁTrainConfigǁfrom_dict__mutmut_11": (
+    "locustjump.rundir.config.xǁTrainConfigǁ_from_dict__mutmut_11": (
         '"generations": 1001,',
         _TEMPLATE,
     ),
-    "locustjump.rundir.config.xǁTrainConfigǁfrom_dict__mutmut_14": (
+    "locustjump.rundir.config.xǁTrainConfigǁ_from_dict__mutmut_14": (
         '"frozen_digest": "XXXX"',
         _TEMPLATE,
     ),
@@ -260,7 +263,7 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
         "every subclass of Optimizer (an abc.ABC) has __abstractmethods__, so "
         "the default is never used",
     ),
-    "locustjump.sim.actuation.x_apply_deltas__mutmut_29": (
+    "locustjump.sim.actuation.x_apply_deltas__mutmut_30": (
         "(out is None) and False else out",
         "without out the result is a new array either way: step is itself "
         "a fresh array (one allocation more, the same numbers)",
@@ -441,6 +444,12 @@ def write_doc(results: dict[str, dict | None]) -> None:
             details.append(f"- equivalent `{name}`: `{line}` — {why}")
         for name, line in s["survived"]:
             details.append(f"- **survived** `{name}`: `{line}`")
+    last_run = (
+        f"Every module from scratch (`python scripts/mutation.py`): "
+        f"{LAST_RUN.read_text().strip()}.\n"
+        if LAST_RUN.is_file()
+        else ""
+    )
     rate = total["killed"] / max(total["mutants"] - total["eq"], 1)
     rows.append(
         f"| all | {total['mutants']} | {total['killed']} | {total['eq']} | "
@@ -454,7 +463,10 @@ def write_doc(results: dict[str, dict | None]) -> None:
         "the mutated function. Killed: a test failed (or the mutant hung).\n"
         "Rate: killed / (mutants - equivalent). Minutes: mutmut's wall time\n"
         "for the module, one child process, on the project's 2-core VM shared\n"
-        "with other work (so slower than on an idle one).\n\n"
+        "with other work (so slower than on an idle one); a rerun of the\n"
+        "survivors (`--survivors`, after tests were added) adds its own.\n"
+        + last_run
+        + "\n"
         "| module | mutants | killed | equivalent | survived | rate | minutes |\n"
         "| --- | ---: | ---: | ---: | ---: | ---: | ---: |\n"
         + "\n".join(rows)
@@ -484,10 +496,14 @@ def main(argv: list[str] | None = None) -> None:
     for m in args.modules:
         if m not in MODULES:
             ap.error(f"unknown module {m!r}; choose from {', '.join(MODULES)}")
+    start = time.monotonic()
     for module in args.modules or list(MODULES):
         if not args.no_run:
             wall = run(module, args.max_children, args.survivors)
             print(f"{module}: mutmut ran {wall / 60:.1f} min")
+    if not (args.modules or args.survivors or args.no_run):
+        minutes = (time.monotonic() - start) / 60
+        LAST_RUN.write_text(f"{minutes:.1f} min, {time.strftime('%Y-%m-%d')}")
     results = {m: summary(m) for m in MODULES}
     write_doc(results)
     for module, s in results.items():
