@@ -116,11 +116,6 @@ _GEN0 = (
     "at generation 0 the population and its fitness are empty, so the first "
     "e rows of them are empty whatever e is"
 )
-_FRAMES = (
-    "not equivalent: tests/test_rcga_behaviour.py checks that the warning "
-    "names the caller's file, but not under mutmut, whose trampoline adds "
-    "frames between the caller and RCGA.__init__"
-)
 _TEMPLATE = "a type template for coerce: only its type is read"
 _ZIP = (
     "the lengths were compared just above: a row (or array) of another "
@@ -162,8 +157,6 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
         "integers(high) draws from [0, high): the same numbers from the same "
         "generator (checked)",
     ),
-    "locustjump.evo.rcga.xǁRCGAǁ__init____mutmut_11": ("- stacklevel=2,", _FRAMES),
-    "locustjump.evo.rcga.xǁRCGAǁ__init____mutmut_15": ("+ stacklevel=3,", _FRAMES),
     "locustjump.evo.rcga.xǁRCGAǁ__init____mutmut_40": (
         "np.array(init, dtype=None)",
         "Optimizer.ask converts what _ask returns to float64",
@@ -474,8 +467,7 @@ def write_doc(results: dict[str, dict | None]) -> None:
         + NOT_COVERED
         + "\n## Equivalent and surviving mutants\n\n"
         "Equivalent: no test can tell the mutant from the original (the reason\n"
-        "says why), or, where the reason says so, a test does but not under\n"
-        "mutmut. `scripts/mutation.py` matches each listed mutant by its\n"
+        "says why). `scripts/mutation.py` matches each listed mutant by its\n"
         "function and its mutated text, not its number alone.\n\n"
         + ("\n".join(details) if details else "None.")
         + "\n"

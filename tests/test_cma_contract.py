@@ -11,6 +11,7 @@ import pytest
 
 pytest.importorskip("cma", reason="pycma is not installed (locustjump[cma])")
 
+from locustjump.errors import UserError  # noqa: E402
 from locustjump.evo.cma import CMAES, CMAParams  # noqa: E402
 
 
@@ -83,8 +84,8 @@ def test_the_state_is_the_seed_and_the_fitness_told():
 
 def test_without_pycma_the_error_says_what_to_install(monkeypatch):
     monkeypatch.setitem(sys.modules, "cma", None)
-    message = "--optimizer cma needs the cma library: pip install 'locustjump[cma]'"
-    with pytest.raises(ImportError, match=exactly(message)):
+    message = "optimizer cma needs the cma library: pip install 'locustjump[cma]'"
+    with pytest.raises(UserError, match=exactly(message)):
         CMAES(3)
 
 

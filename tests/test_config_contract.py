@@ -333,7 +333,7 @@ def test_a_config_s_plugins_table_is_read_and_checked():
             C.TrainConfig.from_dict({"plugins": bad}, SRC)
     message = (
         f"{SRC}: made with the plugin nosuch.mod (distribution nosuchdist), which "
-        "is not loaded here: install nosuchdist, or give --plugin nosuch.mod"
+        "is not loaded here: install nosuchdist, or give plugin nosuch.mod"
     )
     with pytest.raises(UserError, match=exactly(message)):
         C.TrainConfig.from_dict(

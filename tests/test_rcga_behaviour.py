@@ -7,7 +7,6 @@ through (issue #48, scripts/mutation.py); docs/mutation.md lists the rest.
 """
 
 import copy
-import os
 import re
 
 import numpy as np
@@ -332,23 +331,3 @@ def test_an_inconsistent_state_is_refused_with_what_is_wrong(
         RCGA.from_state(
             3, RCGAParams(population=4), state_of(generation, population, fitness)
         )
-
-
-# --- the deprecated rng argument (goes with it) -------------------------------------
-
-
-def test_the_deprecated_rng_argument_warns_at_the_caller_and_is_the_seed():
-    p = RCGAParams(population=4)
-    message = "RCGA's rng argument is deprecated: pass seed=... (an int)"
-    with pytest.warns(DeprecationWarning, match=exactly(message)) as caught:
-        positional = RCGA(3, p, np.random.default_rng(7))
-    np.testing.assert_array_equal(positional.ask(), RCGA(3, p, seed=7).ask())
-    if "MUTANT_UNDER_TEST" not in os.environ:  # mutmut's trampoline adds frames
-        assert caught[0].filename == __file__
-    with (
-        pytest.warns(DeprecationWarning),
-        pytest.raises(
-            TypeError, match=exactly("RCGA: pass seed, not both seed and rng")
-        ),
-    ):
-        RCGA(3, p, seed=1, rng=7)
