@@ -18,7 +18,7 @@ run: mutants, killed (a test failed; timeouts count), equivalent (listed in
 survived (no test failed, or no test reached it) and the kill rate
 ``killed / (mutants - equivalent)``.
 
-    python scripts/mutation.py                  # every module (hours on 2 cores)
+    python scripts/mutation.py                  # every module (half an hour)
     python scripts/mutation.py evo/rcga.py      # one module (minutes)
     python scripts/mutation.py evo/rcga.py --survivors   # rerun what survived
 
