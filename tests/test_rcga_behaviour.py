@@ -223,7 +223,8 @@ def test_with_half_crossover_about_half_the_children_are_copies():
 
 def test_the_first_population_is_uniform_in_init_scale_then_only_children_are_asked():
     p = RCGAParams(population=50, elite=3, init_scale=0.1)
-    ga = RCGA(6, p, 0)
+    ga = RCGA(6, p)
+    assert ga.seed == 0 and RCGA(6).params == RCGAParams()
     assert ga.population.shape == (0, 6)  # nothing told yet
     x = ga.ask()
     assert x.shape == (50, 6)

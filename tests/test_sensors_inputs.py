@@ -38,6 +38,11 @@ def test_each_input_of_a_known_batch():
             [0.0, 0.0, 0.0, 1e-9],  # right tarsus, barely
         ]
     )
+    # the inputs go to a new array: leave a freed one of its size full of NaN
+    # where NumPy's allocator would hand it out, so that a column left
+    # unwritten shows (it could otherwise hold a previous call's numbers)
+    poison = np.full((3, sensors.N_INPUTS), np.nan)
+    del poison
     obs = sensors.paper_inputs(
         qpos, sensordata, joint_adr=JOINTS, touch_adr=TOUCH, body_length=BODY_LENGTH
     )
