@@ -17,9 +17,7 @@ import nbformat
 NOTEBOOK = Path(__file__).resolve().parent.parent / "docs" / "tutorial.ipynb"
 
 CELLS: list[tuple[str, str]] = [
-    (
-        "md",
-        """\
+    ("md", """\
 # Tutorial: evolve a kick, watch it, compose it
 
 This notebook walks through locustjump's Python API in five steps:
@@ -35,11 +33,8 @@ Run it from a clone after `make demo` (or `pip install -e '.[video,gym]'`),
 with Jupyter installed in that environment (`pip install jupyterlab`), from the
 `docs/` folder or the repository root. The budget below is small on purpose
 (about a minute on two cores); raise `GENERATIONS` for a kick that jumps like
-the paper's (`results/paper-seed0/kick`: 1000 generations).""",
-    ),
-    (
-        "code",
-        """\
+the paper's (`results/paper-seed0/kick`: 1000 generations)."""),
+    ("code", """\
 import os
 import tempfile
 from pathlib import Path
@@ -56,21 +51,15 @@ POPULATION = int(os.environ.get("LJ_TUTORIAL_POPULATION", "30"))
 REPO = Path.cwd() if (Path.cwd() / "results").is_dir() else Path.cwd().parent
 SHIPPED = REPO / "results" / "paper-seed0"  # the paper's budget, seed 0
 WORK = Path(tempfile.mkdtemp(prefix="locustjump-tutorial-"))
-print("runs go to", WORK)""",
-    ),
-    (
-        "md",
-        """\
+print("runs go to", WORK)"""),
+    ("md", """\
 ## 1. Train a kick
 
 A run is a directory: `config.toml` (everything that determines the result),
 `metrics.csv` (one row per generation), `best.npz` (the best genome) and an
 atomic checkpoint. Same seed, same genomes, bit for bit, on any number of
-threads.""",
-    ),
-    (
-        "code",
-        """\
+threads."""),
+    ("code", """\
 cfg = lj.TrainConfig(
     behaviour="kick",
     seed=0,
@@ -80,19 +69,13 @@ cfg = lj.TrainConfig(
 kick = lj.train(cfg, WORK / "kick", progress=False)
 print(f"best fitness {kick.best.fitness:.4f} after {kick.generation} generations "
       f"({kick.wall_s:.1f} s)")
-print(sorted(p.name for p in kick.out.iterdir()))""",
-    ),
-    (
-        "md",
-        """\
+print(sorted(p.name for p in kick.out.iterdir()))"""),
+    ("md", """\
 ## 2. Its learning curve
 
 `metrics.csv` reads as a NumPy structured array; the shipped 1000-generation
-kick is drawn beside ours.""",
-    ),
-    (
-        "code",
-        """\
+kick is drawn beside ours."""),
+    ("code", """\
 from locustjump.rundir.metrics import read_metrics
 
 ours = read_metrics(kick.out / "metrics.csv")
@@ -103,22 +86,16 @@ ax.plot(ours["generation"], ours["best"], label=f"ours ({GENERATIONS} gen.)")
 ax.plot(ours["generation"], ours["mean"], ":", label="ours, population mean")
 ax.set(xlabel="generation", ylabel="kick fitness (Eq. 1, m$^2$)", xscale="log")
 ax.legend()
-plt.show()""",
-    ),
-    (
-        "md",
-        """\
+plt.show()"""),
+    ("md", """\
 ## 3. Watch it
 
 `evaluate_run` re-simulates the best genome (its fitness must equal the
 recorded one: the run replays bit for bit) and writes trajectory CSVs and
 figures; `playback_of` + `frames` render the episode offscreen.
 `locustjump render RUN --out kick.mp4` makes the video, `locustjump view RUN`
-opens MuJoCo's viewer.""",
-    ),
-    (
-        "code",
-        """\
+opens MuJoCo's viewer."""),
+    ("code", """\
 ev = lj.evaluate_run(kick.out)
 print(f"re-simulated fitness {ev.fitness:.6f}, recorded {ev.recorded_fitness:.6f}, "
       f"identical: {ev.matches}")
@@ -134,21 +111,15 @@ frame = next(islice(frames(pb, fps=fps), int(t_show * fps), None))
 plt.figure(figsize=(6, 4.5))
 plt.imshow(frame)
 plt.axis("off")
-plt.show()""",
-    ),
-    (
-        "md",
-        """\
+plt.show()"""),
+    ("md", """\
 ## 4. Compose with the shipped simple behaviours
 
 The paper's successive jump is a switching network over three frozen
 networks: kick, get-up and return-legs. Here they are the shipped runs of
 `results/paper-seed0`; only the switcher evolves. (The 3000-step episode makes
-a generation about ten times a kick's.)""",
-    ),
-    (
-        "code",
-        """\
+a generation about ten times a kick's.)"""),
+    ("code", """\
 from locustjump.rundir import FrozenGenomes
 from locustjump.tasks import behaviour_class
 
@@ -165,21 +136,15 @@ ccfg = lj.TrainConfig(
 )
 composed = lj.train(ccfg, WORK / "composed", frozen=frozen, progress=False)
 print(f"successive-jump fitness {composed.best.fitness:.1f} "
-      f"(shipped, 100 generations: see results/paper-seed0/results.md)")""",
-    ),
-    (
-        "md",
-        """\
+      f"(shipped, 100 generations: see results/paper-seed0/results.md)")"""),
+    ("md", """\
 ## 5. A Gymnasium environment
 
 `import locustjump.envs` registers `LocustKick-v0`, `LocustGetUp-v0`,
 `LocustReturnLegs-v0` and `LocustSuccessiveJump-v0` (needs the `gym` extra).
 The return of an episode is the behaviour's fitness, so any RL or ES library
-can be compared with the paper's RCGA on the same number.""",
-    ),
-    (
-        "code",
-        """\
+can be compared with the paper's RCGA on the same number."""),
+    ("code", """\
 import gymnasium as gym
 import numpy as np
 
@@ -195,28 +160,22 @@ while not done:
     done = terminated or truncated
 env.close()
 print(f"a random policy's kick return: {ret:.4f}; our evolved kick: "
-      f"{kick.best.fitness:.4f}")""",
-    ),
-    (
-        "md",
-        """\
+      f"{kick.best.fitness:.4f}")"""),
+    ("md", """\
 ## Where next
 
 - The command line does all of this and more: `locustjump --help`; the
   whole paper in one command: `locustjump reproduce`.
 - Compare optimizers (`--optimizer cma`), scenes (`--scene debris`) and
   seeds with a study file: `locustjump study studies/example.toml --dry-run`.
-- Which of the paper's claims hold, and why: the science pages.""",
-    ),
+- Which of the paper's claims hold, and why: the science pages."""),
 ]
 
 
 def notebook() -> nbformat.NotebookNode:
     nb = nbformat.v4.new_notebook()
     nb.metadata["kernelspec"] = {
-        "display_name": "Python 3",
-        "language": "python",
-        "name": "python3",
+        "display_name": "Python 3", "language": "python", "name": "python3"
     }
     nb.metadata["language_info"] = {"name": "python"}
     make = {"md": nbformat.v4.new_markdown_cell, "code": nbformat.v4.new_code_cell}

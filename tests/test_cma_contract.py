@@ -84,7 +84,9 @@ def test_the_state_is_the_seed_and_the_fitness_told():
 
 def test_without_pycma_the_error_says_what_to_install(monkeypatch):
     monkeypatch.setitem(sys.modules, "cma", None)
-    message = "optimizer cma needs the cma library: pip install 'locustjump[cma]'"
+    message = (
+        "optimizer cma needs the cma library: pip install -e '.[cma]' in the clone"
+    )
     with pytest.raises(UserError, match=exactly(message)):
         CMAES(3)
 

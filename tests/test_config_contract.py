@@ -13,7 +13,7 @@ import re
 import pytest
 
 from locustjump.errors import UserError
-from locustjump.evo import RCGAParams
+from locustjump.evo import RCGAParams, optimizer_kinds
 from locustjump.evo.cma import CMAParams
 from locustjump.rundir import config as C
 from locustjump.sim.engine.job import ENGINES
@@ -23,6 +23,7 @@ from locustjump.tasks.base import CommonOptions
 from locustjump.tasks.composed import SwitchOptions
 
 SRC = "cfg.toml"
+KINDS = ", ".join(optimizer_kinds())  # the built-in optimizers
 
 
 def exactly(message):
@@ -58,7 +59,7 @@ def test_the_boundaries_are_accepted():
         ),
         (
             {"optimizer": object()},
-            "unknown optimizer None; choose from rcga, cma, random",
+            f"unknown optimizer None; choose from {KINDS}",
         ),
     ],
 )
@@ -156,7 +157,7 @@ def test_from_dict_reads_every_table():
         ({"optimizer": 3}, "optimizer must be a table"),
         (
             {"optimizer": {"kind": "sa"}},
-            "optimizer.kind: unknown optimizer 'sa'; choose from rcga, cma, random",
+            f"optimizer.kind: unknown optimizer 'sa'; choose from {KINDS}",
         ),
         (
             {"optimizer": {"population": 1, "elite": 0}},
