@@ -8,7 +8,7 @@ PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 
-.PHONY: demo test typecheck docs lint bench clean
+.PHONY: demo test typecheck docs lint bench mutation clean
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -52,6 +52,15 @@ bench: $(VENV)/.demo-installed
 
 docs: $(VENV)/.docs-installed
 	NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict  # into site/
+
+$(VENV)/.mutation-installed: pyproject.toml | $(BIN)/python
+	$(BIN)/python -m pip install --quiet -e '.[test,mutation]'
+	touch $@
+
+# mutmut on the core modules, one at a time, each against its focused tests;
+# writes docs/mutation.md (half an hour on 2 cores: not part of `make test`)
+mutation: $(VENV)/.mutation-installed
+	$(BIN)/python scripts/mutation.py
 
 clean:
 	rm -rf $(VENV) demo site

@@ -1,0 +1,162 @@
+"""The equivalent mutants of scripts/mutation.py's modules: mutants that no
+test can tell from the original, each with the reason (docs/mutation.md lists
+them from here)."""
+
+_TIE = (
+    "differs only when a uniform draw in [0, 1) equals the threshold exactly "
+    "(probability 2**-53 a draw); both read 'with probability p' correctly"
+)
+_EINSUM = "einsum's subscripts are labels: upper case names the same sum"
+_GEN0 = (
+    "at generation 0 the population and its fitness are empty, so the first "
+    "e rows of them are empty whatever e is"
+)
+_TEMPLATE = "a type template for coerce: only its type is read"
+_ZIP = (
+    "the lengths were compared just above: a row (or array) of another "
+    "length has already raised"
+)
+_FLOATS = "pycma asks float64 arrays, and Optimizer.ask converts to float64 anyway"
+_REPLAY = "each replayed row goes through tell, whose check_fitness makes it float64"
+_CASE = (
+    "pycma matches option names case-insensitively (checked: {'POPSIZE': "
+    "12} gives popsize 12)"
+)
+_SILENT = (
+    "at verbose -9 (or below) pycma neither displays nor logs, whatever "
+    "verb_disp and verb_log say (tests/test_cma_contract.py: no output, no "
+    "file)"
+)
+#: mutant name -> (text of its mutated line, as mutmut's diff shows it,
+#: without indentation; why no test can tell it from the original); matched
+#: by function and text (:func:`listed`)
+EQUIVALENT: dict[str, tuple[str, str]] = {
+    "locustjump.evo.rcga.x_sbx__mutmut_10": (
+        "+ u < 0.5,",
+        "at u = 0.5 both branches give beta = 1",
+    ),
+    "locustjump.evo.rcga.x_sbx__mutmut_38": ("<= 0.5, 1.0, -1.0)", _TIE),
+    "locustjump.evo.rcga.x_gaussian_mutation__mutmut_3": ("<= rate", _TIE),
+    "locustjump.evo.rcga.xǁRCGAǁ_children__mutmut_52": ("> p.crossover_rate", _TIE),
+    "locustjump.evo.rcga.x_undx__mutmut_16": ('+ dn2 = np.einsum("IJ,IJ->I"', _EINSUM),
+    "locustjump.evo.rcga.x_undx__mutmut_39": ('np.einsum("IJ,IJ->I", rel', _EINSUM),
+    "locustjump.evo.rcga.x_undx__mutmut_80": ('np.einsum("IJ,IJ->I", eta', _EINSUM),
+    "locustjump.evo.rcga.x_undx__mutmut_26": (
+        "+ safe = np.where(dn2 > 0, dn2, 2.0)",
+        "where dn2 = 0 the parents coincide, d = 0, and what is divided by "
+        "safe is multiplied by d = 0",
+    ),
+    "locustjump.evo.rcga.x_undx__mutmut_62": (
+        "rng.normal(0.0, size=(n, P))",
+        "normal's scale is 1.0 by default",
+    ),
+    "locustjump.evo.rcga.x_tournament__mutmut_5": (
+        "rng.integers(fitness.shape[0], size=(n, k))",
+        "integers(high) draws from [0, high): the same numbers from the same "
+        "generator (checked)",
+    ),
+    "locustjump.evo.rcga.xǁRCGAǁ__init____mutmut_40": (
+        "np.array(init, dtype=None)",
+        "Optimizer.ask converts what _ask returns to float64",
+    ),
+    "locustjump.evo.rcga.xǁRCGAǁ__init____mutmut_42": (
+        "np.array(init, )",
+        "Optimizer.ask converts what _ask returns to float64",
+    ),
+    "locustjump.evo.rcga.xǁRCGAǁ_tell__mutmut_3": ("or True else 0", _GEN0),
+    "locustjump.evo.rcga.xǁRCGAǁ_tell__mutmut_4": (
+        "self.generation >= 0 else 0",
+        _GEN0,
+    ),
+    "locustjump.evo.rcga.xǁRCGAǁ_tell__mutmut_6": ("self.generation > 0 else 1", _GEN0),
+    "locustjump.evo.rcga.xǁRCGAǁ_tell__mutmut_18": (
+        'kind="STABLE"',
+        "NumPy reads the sort kind case-insensitively (checked: the same "
+        "order as 'stable' where the default sort differs)",
+    ),
+    "locustjump.rundir.metrics.x_parse_row__mutmut_10": ("strict=None", _ZIP),
+    "locustjump.rundir.metrics.x_parse_row__mutmut_13": ("zip(names, cells, )", _ZIP),
+    "locustjump.rundir.metrics.x_parse_row__mutmut_14": ("strict=False", _ZIP),
+    "locustjump.rundir.metrics.x_read_metrics__mutmut_10": (
+        "if (rows) or True else",
+        "np.array([], dtype) is the same empty array as np.zeros(0, dtype)",
+    ),
+    "locustjump.rundir.config.xǁTrainConfigǁ_from_dict__mutmut_8": (
+        '"seed": 1,',
+        _TEMPLATE,
+    ),
+    "locustjump.rundir.config.xǁTrainConfigǁ_from_dict__mutmut_11": (
+        '"generations": 1001,',
+        _TEMPLATE,
+    ),
+    "locustjump.rundir.config.xǁTrainConfigǁ_from_dict__mutmut_14": (
+        '"frozen_digest": "XXXX"',
+        _TEMPLATE,
+    ),
+    "locustjump.rundir.config.x_terrains_from_table__mutmut_17": (
+        '+ top = {"terrains": 2,',
+        _TEMPLATE + " (the default count is the one given to Terrains below)",
+    ),
+    "locustjump.rundir.config.x_terrains_from_table__mutmut_20": (
+        '"aggregate": "XXmeanXX"}',
+        _TEMPLATE + " (the default is the one given to Terrains below)",
+    ),
+    "locustjump.rundir.config.x_terrains_from_table__mutmut_21": (
+        '"aggregate": "MEAN"}',
+        _TEMPLATE + " (the default is the one given to Terrains below)",
+    ),
+    "locustjump.rundir.config.x_coerce__mutmut_37": ("coerce(v, 1, ", _TEMPLATE),
+    "locustjump.rundir.config.x_coerce__mutmut_55": ("strict=None", _ZIP),
+    "locustjump.rundir.config.x_coerce__mutmut_58": ("zip(value, default, )", _ZIP),
+    "locustjump.rundir.config.x_coerce__mutmut_59": ("strict=False", _ZIP),
+    "locustjump.sim.sensors.x_paper_inputs__mutmut_51": (
+        "qpos[:, 3:8]",
+        "up_axis_in_body reads the first four columns of what it is given",
+    ),
+    "locustjump.sim.sensors.x_paper_inputs__mutmut_53": (
+        "out=obs[:, 6:10]",
+        "obs has 9 columns: a slice to 10 ends at 9 as well",
+    ),
+    "locustjump.evo.base.x_check_fitness__mutmut_8": (
+        ".reshape(-2)",
+        "NumPy reads any negative size in reshape as 'the rest' (checked)",
+    ),
+    "locustjump.tasks.getup.x_getup_summary__mutmut_20": (
+        "reached.argmax(axis=1), -2)",
+        "the mark of 'never' is only compared with >= 0: -1 and -2 read the same",
+    ),
+    "locustjump.tasks.base.xǁBehaviourǁfitness__mutmut_19": (
+        ".reshape(-2, k)",
+        "NumPy reads any negative size in reshape as 'the rest' (checked)",
+    ),
+    "locustjump.tasks.base.xǁBehaviourǁfitness_terms__mutmut_27": (
+        ".reshape(-2, k)",
+        "NumPy reads any negative size in reshape as 'the rest' (checked)",
+    ),
+    "locustjump.evo.cma.xǁCMAESǁ_ask__mutmut_2": ("dtype=None)", _FLOATS),
+    "locustjump.evo.cma.xǁCMAESǁ_ask__mutmut_4": ("self.es.ask(), )", _FLOATS),
+    "locustjump.evo.cma.xǁCMAESǁ_set_state__mutmut_3": ("dtype=None)", _REPLAY),
+    "locustjump.evo.cma.xǁCMAESǁ_set_state__mutmut_5": (
+        '["fitness_history"], )',
+        _REPLAY,
+    ),
+    "locustjump.evo.cma.xǁCMAESǁ_start__mutmut_4": ('"POPSIZE"', _CASE),
+    "locustjump.evo.cma.xǁCMAESǁ_start__mutmut_6": ('"SEED"', _CASE),
+    "locustjump.evo.cma.xǁCMAESǁ_start__mutmut_8": ('"RANDN"', _CASE),
+    "locustjump.evo.cma.xǁCMAESǁ_start__mutmut_12": ('"VERBOSE"', _CASE),
+    "locustjump.evo.cma.xǁCMAESǁ_start__mutmut_16": ('"VERB_LOG"', _CASE),
+    "locustjump.evo.cma.xǁCMAESǁ_start__mutmut_19": ('"VERB_DISP"', _CASE),
+    "locustjump.evo.cma.xǁCMAESǁ_start__mutmut_14": ('"verbose": -10', _SILENT),
+    "locustjump.evo.cma.xǁCMAESǁ_start__mutmut_17": ('"verb_log": 1', _SILENT),
+    "locustjump.evo.cma.xǁCMAESǁ_start__mutmut_20": ('"verb_disp": 1', _SILENT),
+    "locustjump.evo.x_register__mutmut_23": (
+        'getattr(cls, "__abstractmethods__", )',
+        "every subclass of Optimizer (an abc.ABC) has __abstractmethods__, so "
+        "the default is never used",
+    ),
+    "locustjump.sim.actuation.x_apply_deltas__mutmut_30": (
+        "(out is None) and False else out",
+        "without out the result is a new array either way: step is itself "
+        "a fresh array (one allocation more, the same numbers)",
+    ),
+}

@@ -1,0 +1,343 @@
+"""A run's configuration (rundir/config.py) stated exactly: the range of each
+top-level setting with its boundary, how each TOML value is coerced to its
+setting's type (64-bit integers, no booleans for numbers), the defaults of a
+[scene] table, and the one-line error for each wrong table.
+
+Written against the mutants the suite let through (issue #48,
+scripts/mutation.py): seed -1 accepted, the 2**63 bounds, `true` taken for an
+integer or a float, the default terrain count.
+"""
+
+import re
+
+import pytest
+
+from locustjump.errors import UserError
+from locustjump.evo import RCGAParams, optimizer_kinds
+from locustjump.evo.cma import CMAParams
+from locustjump.rundir import config as C
+from locustjump.sim.engine.job import ENGINES
+from locustjump.sim.scene import MAX_TERRAINS, Debris, Flat, Terrains
+from locustjump.tasks import behaviour_names
+from locustjump.tasks.base import CommonOptions
+from locustjump.tasks.composed import SwitchOptions
+
+SRC = "cfg.toml"
+KINDS = ", ".join(optimizer_kinds())  # the built-in optimizers
+
+
+def exactly(message):
+    return "^" + re.escape(message) + "$"
+
+
+# --- TrainConfig's own checks --------------------------------------------------
+
+
+def test_the_boundaries_are_accepted():
+    C.TrainConfig(seed=0, generations=1)
+    C.TrainConfig(seed=2**63 - 1, generations=2**63 - 1)
+
+
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        ({"seed": -1}, "seed must be >= 0, got -1"),
+        ({"generations": 0}, "generations must be >= 1, got 0"),
+        ({"seed": 2**63}, "seed must be < 2**63, got 9223372036854775808"),
+        (
+            {"generations": 2**63},
+            "generations must be < 2**63, got 9223372036854775808",
+        ),
+        ({"engine": "gpu"}, f"engine must be one of {', '.join(ENGINES)}, got 'gpu'"),
+        (
+            {"behaviour": "fly"},
+            f"unknown behaviour 'fly'; choose from {', '.join(behaviour_names())}",
+        ),
+        (
+            {"behaviour": "composed", "options": CommonOptions()},
+            "composed takes SwitchOptions options, got CommonOptions",
+        ),
+        (
+            {"optimizer": object()},
+            f"unknown optimizer None; choose from {KINDS}",
+        ),
+    ],
+)
+def test_a_setting_out_of_range_is_named(kwargs, message):
+    with pytest.raises(ValueError, match=exactly(message)):
+        C.TrainConfig(**kwargs)
+
+
+def test_options_default_to_the_behaviour_s_and_population_is_the_optimizer_s():
+    cfg = C.TrainConfig(behaviour="composed", optimizer=CMAParams(population=7))
+    assert cfg.options == SwitchOptions() and cfg.population == 7
+    assert C.TrainConfig().options == CommonOptions()
+    assert cfg.replace(seed=3).seed == 3 and cfg.replace(seed=3).population == 7
+
+
+def test_to_dict_is_config_toml_and_names_only_what_is_set():
+    d = C.TrainConfig(
+        seed=5, generations=9, optimizer=RCGAParams(population=6)
+    ).to_dict()
+    assert list(d) == [
+        "format",
+        "behaviour",
+        "seed",
+        "generations",
+        "engine",
+        "optimizer",
+        "model",
+        "options",
+        "scene",
+    ]
+    assert (d["behaviour"], d["seed"], d["generations"]) == ("kick", 5, 9)
+    assert d["optimizer"]["kind"] == "rcga" and d["optimizer"]["population"] == 6
+    assert d["options"] == {"score_substeps": []}  # tuples as TOML arrays
+    assert d["scene"] == {"kind": "flat", "terrains": 1, "aggregate": "mean"}
+    d = C.TrainConfig(frozen_digest="ab").to_dict()
+    assert d["frozen_digest"] == "ab"
+
+
+def test_the_hash_ignores_generations_only():
+    cfg = C.TrainConfig()
+    assert len(cfg.hash()) == 16
+    assert cfg.replace(generations=5).hash() == cfg.hash()
+    for other in (
+        cfg.replace(seed=1),
+        cfg.replace(frozen_digest="x"),
+        cfg.replace(scene=Terrains(Debris(), 2)),
+        cfg.replace(options=CommonOptions((3,))),
+    ):
+        assert other.hash() != cfg.hash()
+
+
+# --- from_dict: a config.toml's table ---------------------------------------------
+
+
+def test_from_dict_reads_every_table():
+    cfg = C.TrainConfig.from_dict(
+        {
+            "behaviour": "composed",
+            "seed": 4,
+            "generations": 3,
+            "engine": "numpy",
+            "optimizer": {"kind": "cma", "population": 8},
+            "model": {"scale": 2.0},
+            "options": {"switch_every": 5},
+            "scene": {"kind": "debris", "seed": 7, "terrains": 2, "aggregate": "min"},
+        },
+        SRC,
+    )
+    assert (cfg.behaviour, cfg.seed, cfg.generations, cfg.engine) == (
+        "composed",
+        4,
+        3,
+        "numpy",
+    )
+    assert cfg.optimizer == CMAParams(population=8) and cfg.model.scale == 2.0
+    assert cfg.options == SwitchOptions(switch_every=5)
+    assert cfg.scene == Terrains(Debris(seed=7), 2, "min")
+    assert C.TrainConfig.from_dict(cfg.to_dict(), SRC) == cfg
+    assert C.TrainConfig.from_dict({}, SRC) == C.TrainConfig()
+
+
+@pytest.mark.parametrize(
+    "table, message",
+    [
+        ({"colour": 1}, "unknown key 'colour'"),
+        ({"seed": -1}, "seed must be >= 0, got -1"),
+        ({"seed": True}, "seed must be int, got bool True"),
+        ({"seed": 1.0}, "seed must be int, got float 1.0"),
+        ({"engine": 3}, "engine must be str, got int 3"),
+        (
+            {"behaviour": "fly", "options": {}},
+            f"unknown behaviour 'fly'; choose from {', '.join(behaviour_names())}",
+        ),
+        ({"options": {"switch_every": 2}}, "unknown key 'options.switch_every'"),
+        ({"optimizer": 3}, "optimizer must be a table"),
+        (
+            {"optimizer": {"kind": "sa"}},
+            f"optimizer.kind: unknown optimizer 'sa'; choose from {KINDS}",
+        ),
+        (
+            {"optimizer": {"population": 1, "elite": 0}},
+            "[optimizer] population must be >= 2, got 1",
+        ),
+        ({"model": []}, "model must be a table"),
+        ({"model": {"legs": 6}}, "unknown key 'model.legs'"),
+        ({"scene": {"kind": 3}}, "scene.kind must be a string, got 3"),
+        ({"scene": "debris"}, "scene must be a table"),
+        (
+            {"scene": {"kind": "moon"}},
+            "scene.kind: unknown scene 'moon'; choose from flat, debris",
+        ),
+        ({"scene": {"terrains": True}}, "scene.terrains must be int, got bool True"),
+        (
+            {"scene": {"kind": "debris", "terrains": 0}},
+            f"[scene] terrains must be an integer in [1, {MAX_TERRAINS}], got 0",
+        ),
+        ({"scene": {"aggregate": 1}}, "scene.aggregate must be str, got int 1"),
+        ({"scene": {"kind": "debris", "height": 1}}, "unknown key 'scene.height'"),
+    ],
+)
+def test_each_wrong_table_is_one_line_naming_the_file_and_key(table, message):
+    with pytest.raises(UserError, match=exactly(f"{SRC}: {message}")):
+        C.TrainConfig.from_dict(table, SRC)
+
+
+def test_an_rcga_table_of_format_1_is_named_as_the_file_names_it():
+    with pytest.raises(UserError, match=exactly(f"{SRC}: rcga must be a table")):
+        C.TrainConfig.from_dict({"format": 1, "rcga": 3}, SRC)
+    assert C.optimizer_from_table({}, SRC) == RCGAParams()
+
+
+def test_a_scene_table_defaults_to_one_terrain_and_the_mean():
+    t = C.terrains_from_table({"kind": "debris", "seed": 3}, SRC)
+    assert (t.count, t.aggregate, t.scene) == (1, "mean", Debris(seed=3))
+    assert C.terrains_from_table({}, SRC) == Terrains(Flat())
+    assert C.scene_table(t) == {
+        "kind": "debris",
+        **{
+            k: list(v) if isinstance(v, tuple) else v
+            for k, v in vars(Debris(seed=3)).items()
+        },
+        "terrains": 1,
+        "aggregate": "mean",
+    }
+
+
+# --- coerce: a TOML value as its setting's type -------------------------------------
+
+
+@pytest.mark.parametrize(
+    "value, default, expected",
+    [
+        (True, False, True),
+        (-(2**63), 0, -(2**63)),
+        (2**63 - 1, 0, 2**63 - 1),
+        (3, 0.5, 3.0),
+        (2.5, 0.5, 2.5),
+        ("a", "", "a"),
+        ([1, 2], (), (1, 2)),
+        ([], (), ()),
+        ([1, 2.5], (0.0, 0.0), (1.0, 2.5)),
+    ],
+)
+def test_coerce_accepts_its_type(value, default, expected):
+    got = C.coerce(value, default, "k", SRC)
+    assert got == expected and type(got) is type(expected)
+    if isinstance(got, tuple):
+        assert [type(v) for v in got] == [type(v) for v in expected]
+
+
+@pytest.mark.parametrize(
+    "value, default, message",
+    [
+        (1, False, "k must be bool, got int 1"),
+        (True, 0, "k must be int, got bool True"),
+        (False, 0.0, "k must be float, got bool False"),
+        ("1", 0.0, "k must be float, got str '1'"),
+        (1.5, 0, "k must be int, got float 1.5"),
+        (2**63, 0, "k must be a 64-bit integer (TOML's), got 9223372036854775808"),
+        (
+            -(2**63) - 1,
+            0,
+            "k must be a 64-bit integer (TOML's), got -9223372036854775809",
+        ),
+        (1, "", "k must be str, got int 1"),
+        ((1, 2), (), "k must be an array of integers, got (1, 2)"),
+        ([1, True], (), "k[1] must be int, got bool True"),
+        ([1.0], (0.0, 0.0), "k must be an array of 2 numbers, got [1.0]"),
+        ((1.0, 2.0), (0.0, 0.0), "k must be an array of 2 numbers, got (1.0, 2.0)"),
+        ([1.0, "x"], (0.0, 0.0), "k[1] must be float, got str 'x'"),
+    ],
+)
+def test_coerce_refuses_what_is_not_its_type(value, default, message):
+    with pytest.raises(UserError, match=exactly(f"{SRC}: {message}")):
+        C.coerce(value, default, "k", SRC)
+
+
+def test_from_table_names_the_section():
+    assert C.from_table(CommonOptions, {"score_substeps": [2, 3]}, "options", SRC) == (
+        CommonOptions((2, 3))
+    )
+    with pytest.raises(UserError, match=exactly(f"{SRC}: options must be a table")):
+        C.from_table(CommonOptions, [1], "options", SRC)
+    with pytest.raises(UserError, match=exactly(f"{SRC}: unknown key 'options.x'")):
+        C.from_table(CommonOptions, {"x": 1}, "options", SRC)
+    with pytest.raises(UserError, match=re.escape(f"{SRC}: [options] score_substeps ")):
+        C.from_table(CommonOptions, {"score_substeps": [2, 2]}, "options", SRC)
+
+
+def test_a_debris_table_written_before_its_walls_has_none():
+    # a table that names every other field but lacks the walls was written
+    # before they existed: no walls, not today's defaults
+    table = {k: v for k, v in vars(Debris(seed=2)).items()}
+    del table["wall_height"], table["wall_margin"]
+    t = C.terrains_from_table({"kind": "debris", **table}, SRC)
+    assert (t.scene.wall_height, t.scene.wall_margin) == (0.0, 0.0)
+    assert Debris().wall_height != 0.0
+
+
+def test_errors_inside_a_table_name_the_file_and_the_key():
+    with pytest.raises(UserError, match=exactly(f"{SRC}: optimizer must be a table")):
+        C.optimizer_from_table(3, SRC)
+    message = f"{SRC}: options.score_substeps must be an array of integers, got 'x'"
+    with pytest.raises(UserError, match=exactly(message)):
+        C.from_table(CommonOptions, {"score_substeps": "x"}, "options", SRC)
+    with pytest.raises(UserError, match=re.escape(f"{SRC}: written by a newer")):
+        C.TrainConfig.from_dict({"format": 99}, SRC)
+
+
+def test_a_setting_of_a_type_coerce_does_not_know_is_a_programming_error():
+    with pytest.raises(TypeError, match=exactly("<class 'dict'>")):
+        C.coerce(1, {}, "k", SRC)
+
+
+# --- [plugins]: where a run's classes came from -----------------------------------
+
+
+def plugin_params(module):
+    """An optimizer's settings class defined in ``module`` (a plugin's)."""
+    import dataclasses
+
+    cls = dataclasses.make_dataclass(
+        "HillParams", [("population", int, 4)], frozen=True
+    )
+    cls.kind, cls.__module__ = "hill", module
+    return cls
+
+
+def test_plugins_are_recorded_but_not_hashed(monkeypatch):
+    import locustjump.evo as evo
+
+    monkeypatch.setattr(evo, "_REGISTRY", dict(evo._REGISTRY))
+    runs = []
+    for module in ("hillpkg", "otherpkg"):
+        params = plugin_params(module)
+        evo._REGISTRY["hill"] = type("Hill", (), {"Params": params})
+        cfg = C.TrainConfig(optimizer=params())
+        runs.append((cfg.to_dict()["plugins"], cfg.hash()))
+    assert runs[0][0] == {"hillpkg": ""} and runs[1][0] == {"otherpkg": ""}
+    assert runs[0][1] == runs[1][1]  # the same experiment from either module
+    assert "plugins" not in C.TrainConfig().to_dict()
+
+
+def test_a_config_s_plugins_table_is_read_and_checked():
+    assert C.TrainConfig.from_dict({"plugins": {"x.y": "xdist"}}, SRC) == (
+        C.TrainConfig()
+    )
+    for bad in (3, {"m": 1}):
+        with pytest.raises(
+            UserError, match=exactly(f"{SRC}: plugins must be a table of strings")
+        ):
+            C.TrainConfig.from_dict({"plugins": bad}, SRC)
+    message = (
+        f"{SRC}: made with the plugin nosuch.mod (distribution nosuchdist), which "
+        "is not loaded here: install nosuchdist, or give plugin nosuch.mod"
+    )
+    with pytest.raises(UserError, match=exactly(message)):
+        C.TrainConfig.from_dict(
+            {"plugins": {"nosuch.mod": "nosuchdist"}, "optimizer": {"kind": "hill"}},
+            SRC,
+        )
