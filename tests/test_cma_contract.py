@@ -23,10 +23,10 @@ def test_settings_ranges_and_their_boundaries():
     CMAParams(population=2, sigma0=1.0e6)
     CMAParams(sigma0=1e-300)
     for kwargs, message in [
-        ({"population": 1}, "population must be >= 2, got 1"),
-        ({"sigma0": 0.0}, "sigma0 must be in (0, 1e6], got 0.0"),
-        ({"sigma0": 1.0e6 + 0.5}, "sigma0 must be in (0, 1e6], got 1000000.5"),
-        ({"sigma0": np.nan}, "sigma0 must be in (0, 1e6], got nan"),
+        ({"population": 1}, "population must be an integer in [2, 1000000], got 1"),
+        ({"sigma0": 0.0}, "sigma0 must be in (0, 1e+06], got 0.0"),
+        ({"sigma0": 1.0e6 + 0.5}, "sigma0 must be in (0, 1e+06], got 1000000.5"),
+        ({"sigma0": np.nan}, "sigma0 must be in (0, 1e+06], got nan"),
     ]:
         with pytest.raises(ValueError, match=exactly(message)):
             CMAParams(**kwargs)

@@ -8,6 +8,7 @@ escaping as a ValueError, negative counts, metrics ahead of the checkpoint,
 the checkpoint row's width.
 """
 
+import os
 import re
 
 import numpy as np
@@ -143,7 +144,10 @@ def test_counts_of_zero_and_optimizer_columns_that_are_not_finite_are_fine(tmp_p
 
 def test_a_file_that_is_not_a_metrics_file(tmp_path):
     with pytest.raises(
-        UserError, match=exactly(f"{tmp_path}: is a directory, expected a metrics file")
+        UserError, match=exactly(
+            f"{tmp_path}: is a directory, not a regular "
+            f"file; expected a metrics file"
+        )
     ):
         metrics.read_metrics(tmp_path)
     p = tmp_path / "b.csv"
@@ -191,10 +195,22 @@ def test_extra_columns_are_read_from_a_complete_header(tmp_path):
 # --- truncate_metrics: resuming from the checkpoint of generation g ---------------
 
 
-def test_rows_ahead_of_the_checkpoint_are_dropped(tmp_path):
-    p = write(tmp_path / "m.csv", HEADER + "\n" + row(1) + row(2) + row(3))
-    metrics.truncate_metrics(p, 2, row(2))
-    assert p.read_text() == HEADER + "\n" + row(1) + row(2)
+def test_rows_ahead_of_the_checkpoint_are_refused(tmp_path):
+    # the checkpoint is written before its row: more rows than it holds mean
+    # it was lost or replaced, and resuming would rewrite the file
+    text = HEADER + "\n" + row(1) + row(2) + row(3)
+    p = write(tmp_path / "m.csv", text)
+    with pytest.raises(
+        UserError,
+        match=exactly(
+
+                f"{p}: holds 3 generations but checkpoint.npz holds only 2 "
+                f"(nothing changed)"
+
+        ),
+    ):
+        metrics.truncate_metrics(p, 2, row(2))
+    assert p.read_text() == text
 
 
 def test_a_missing_last_row_is_the_checkpoint_s(tmp_path):
@@ -206,9 +222,17 @@ def test_a_missing_last_row_is_the_checkpoint_s(tmp_path):
     q = write(tmp_path / "q.csv", "")
     metrics.truncate_metrics(q, 1, row(1))
     assert q.read_text() == HEADER + "\n" + row(1)
-    r = write(tmp_path / "r.csv", HEADER + "\n" + row(1))
+    r = write(tmp_path / "r.csv", HEADER + "\n")
     metrics.truncate_metrics(r, 0, "")
     assert r.read_text() == HEADER + "\n"
+    s = write(tmp_path / "s.csv", HEADER + "\n" + row(1))
+    with pytest.raises(
+        UserError,
+        match=exactly(
+            f"{s}: holds 1 generations but checkpoint.npz is missing (nothing changed)"
+        ),
+    ):
+        metrics.truncate_metrics(s, 0, "")
 
 
 def test_the_checkpoint_s_row_must_have_the_run_s_columns(tmp_path):
@@ -269,11 +293,14 @@ def test_a_last_line_ending_in_a_lone_carriage_return_is_cut_short(tmp_path):
 
 
 def test_a_path_that_cannot_be_read_says_why(tmp_path):
-    p = write(tmp_path / "file", "") / "metrics.csv"  # under a file
-    with pytest.raises(
-        UserError, match=exactly(f"{p}: cannot be read (Not a directory)")
-    ):
-        metrics.read_metrics(p)
+    p = write(tmp_path / "file", "") / "metrics.csv"  # under a file: absent
+    assert len(metrics.read_metrics(p)) == 0
+    q = write(tmp_path / "q.csv", HEADER + "\n")
+    q.chmod(0)
+    if os.access(q, os.R_OK):  # root reads it all the same
+        return
+    with pytest.raises(UserError, match=re.escape(f"{q}: cannot be read")):
+        metrics.read_metrics(q)
 
 
 def test_long_cells_and_lines_are_quoted_to_40_and_80_characters(tmp_path):

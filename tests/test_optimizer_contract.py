@@ -89,9 +89,15 @@ def test_a_stop_reason_s_value_is_a_plain_json_scalar(value, expected):
 
 
 def test_the_base_checks_its_arguments_in_one_line():
-    with pytest.raises(TypeError, match=exactly("seed must be an int, got float")):
+    with pytest.raises(TypeError, match=exactly(
+        "seed must be an integer in "
+        "[0, 2**63-1], got 1.5"
+    )):
         RandomSearch(3, RandomSearchParams(population=2), 1.5)
-    with pytest.raises(ValueError, match=exactly("num_params must be >= 1, got 0")):
+    with pytest.raises(ValueError, match=exactly(
+        "num_params must be an "
+        "integer >= 1, got 0"
+    )):
         RandomSearch(0, RandomSearchParams(population=2), 0)
     opt = RandomSearch(1, RandomSearchParams(population=2), np.int64(4))
     assert opt.seed == 4 and type(opt.seed) is int and opt.num_params == 1
@@ -200,13 +206,13 @@ def test_random_search_samples_uniformly_in_init_scale_every_generation():
 
 
 def test_random_search_ranges_and_their_boundaries():
-    RandomSearchParams(population=1, init_scale=1.0e6)
+    RandomSearchParams(population=2, init_scale=1.0e6)
     RandomSearchParams(init_scale=1e-300)
     for kwargs, message in [
-        ({"population": 0}, "population must be >= 1, got 0"),
-        ({"init_scale": 0.0}, "init_scale must be in (0, 1e6], got 0.0"),
-        ({"init_scale": 2.0e6}, "init_scale must be in (0, 1e6], got 2000000.0"),
-        ({"init_scale": np.inf}, "init_scale must be in (0, 1e6], got inf"),
+        ({"population": 0}, "population must be an integer in [2, 1000000], got 0"),
+        ({"init_scale": 0.0}, "init_scale must be in (0, 1e+06], got 0.0"),
+        ({"init_scale": 2.0e6}, "init_scale must be in (0, 1e+06], got 2000000.0"),
+        ({"init_scale": np.inf}, "init_scale must be in (0, 1e+06], got inf"),
     ]:
         with pytest.raises(ValueError, match=exactly(message)):
             RandomSearchParams(**kwargs)
@@ -253,9 +259,9 @@ class Fixed(Optimizer):  # the base's own __init__
 
 
 def test_the_base_s_defaults_and_what_ask_accepts():
-    opt = Fixed(3, RandomSearchParams(population=1))
+    opt = Fixed(3, RandomSearchParams(population=2))
     assert opt.seed == 0 and len(opt.fitness) == 0
-    x = opt.ask()  # one genome is a generation; integers are asked as floats
+    x = opt.ask()  # integers are asked as floats
     assert x.shape == (1, 3) and x.dtype == np.float64
     assert RandomSearch(2, RandomSearchParams(population=2)).seed == 0
     told = RandomSearch(2, RandomSearchParams(population=2), 3)
