@@ -385,3 +385,48 @@ def test_all_kinds_include_the_plugins(monkeypatch):
         lambda group: [Entry(Hill)] if group == plugins.OPTIMIZERS else [],
     )
     assert evo.optimizer_kinds() == (*BUILTIN, "hill")
+
+
+class Described(Fixed):
+    """Takes two behaviour descriptors with each fitness, and keeps them."""
+
+    rows = np.zeros((2, 3))
+    descriptor_names = ("height", "distance")
+
+    def _tell_described(self, genomes, fitness, descriptors):
+        self.told = (genomes.copy(), fitness.copy(), descriptors)
+        return None
+
+
+def test_descriptors_are_checked_and_passed_only_to_an_optimizer_that_names_them():
+    opt = Described(3, RandomSearchParams(population=2))
+    x = opt.ask()
+    with pytest.raises(
+        ValueError,
+        match=exactly(
+            "Described needs the descriptors height, distance with the fitness"
+        ),
+    ):
+        opt.tell([1.0, 2.0])
+    with pytest.raises(
+        ValueError,
+        match=exactly("got descriptors of shape (2, 3), expected (2, 2)"),
+    ):
+        opt.tell([1.0, 2.0], np.zeros((2, 3)))
+    with pytest.raises(ValueError, match=exactly("descriptors are not finite")):
+        opt.tell([1.0, 2.0], [[0.0, np.nan], [0.0, 0.0]])
+    opt.tell([1.0, 2.0], [[1, 2], [3, 4]])
+    genomes, fitness, m = opt.told
+    np.testing.assert_array_equal(genomes, x)
+    np.testing.assert_array_equal(fitness, [1.0, 2.0])
+    assert m.dtype == np.float64
+    np.testing.assert_array_equal(m, [[1.0, 2.0], [3.0, 4.0]])
+    assert opt.generation == 1 and opt.best_fitness == 2.0
+    plain = RandomSearch(3, RandomSearchParams(population=2), 0)
+    plain.ask()
+    with pytest.raises(ValueError, match=exactly("RandomSearch takes no descriptors")):
+        plain.tell([1.0, 2.0], np.zeros((2, 0)))
+    with pytest.raises(
+        NotImplementedError, match=exactly("RandomSearch takes no descriptors")
+    ):
+        plain._tell_described(x, np.zeros(2), np.zeros((2, 0)))
