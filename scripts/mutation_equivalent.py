@@ -106,6 +106,8 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
         _TEMPLATE + " (the default is the one given to Terrains below)",
     ),
     "locustjump.rundir.config.x_coerce__mutmut_37": ("coerce(v, 1, ", _TEMPLATE),
+    "locustjump.rundir.config.x_coerce__mutmut_1": ("item: Any = 1", _TEMPLATE),
+    "locustjump.rundir.config.x_from_table__mutmut_11": ('get("item", 1)', _TEMPLATE),
     "locustjump.rundir.config.x_coerce__mutmut_55": ("strict=None", _ZIP),
     "locustjump.rundir.config.x_coerce__mutmut_58": ("zip(value, default, )", _ZIP),
     "locustjump.rundir.config.x_coerce__mutmut_59": ("strict=False", _ZIP),

@@ -14,8 +14,14 @@ import pytest
 from locustjump.errors import UserError
 from locustjump.evo import RCGAParams
 from locustjump.evo.cma import CMAParams
+from locustjump.evo.map_elites import MapElitesParams
 from locustjump.evo.rcga import RCGA
-from locustjump.rundir.checkpoint import read_checkpoint, write_checkpoint
+from locustjump.rundir.checkpoint import (
+    check_kept_best,
+    checkpoint_bytes,
+    read_checkpoint,
+    write_checkpoint,
+)
 from locustjump.rundir.config import TrainConfig
 from locustjump.rundir.files import save_npz
 from locustjump.rundir.run import BestGenome
@@ -188,3 +194,144 @@ def test_another_optimizer_s_run_is_named_by_its_config(tmp_path):
         ),
     ):
         read_checkpoint(path, cfg, P)
+
+
+# --- how large a checkpoint may be ------------------------------------------------
+
+
+def test_the_size_bound_counts_what_a_checkpoint_holds():
+    # RCGA, population n = 4, g = 9 generations, p = 5 genes: a population and
+    # its fitness n (p + 1), the best genome and the mean's p each 2 p, the
+    # fitness of every genome told g n; 8 bytes each, beside 64 KiB of text
+    assert checkpoint_bytes(CFG, P) == (1 << 16) + 8 * (4 * 6 + 2 * 5 + 9 * 4)
+    # a QD optimizer: every genome told with its d = 2 descriptors, and an
+    # archive of 3 x 4 cells, each a genome, its descriptors, fitness, index
+    # and generation
+    qd = CFG.replace(optimizer=MapElitesParams(population=4, cells=(3, 4)))
+    assert len(qd.optimizer.descriptors) == 2
+    told, archive = 9 * 4 * (1 + 2), 12 * (5 + 2 + 3)
+    assert checkpoint_bytes(qd, P) == (1 << 16) + 8 * (4 * 6 + 2 * 5 + told + archive)
+
+
+def padded(extra):
+    """arrays() with an ``opt_pad`` array that brings their declared bytes to
+    exactly the checkpoint bound, plus ``extra`` bytes."""
+    z = arrays()
+    used = sum(np.asarray(v).nbytes for v in z.values())
+    return {**z, "opt_pad": np.zeros(checkpoint_bytes(CFG, P) - used + extra, np.uint8)}
+
+
+def test_a_checkpoint_at_its_bound_is_read_and_one_byte_more_is_not(tmp_path):
+    path = tmp_path / "checkpoint.npz"
+    save_npz(path, **padded(0))
+    assert "pad" in read_checkpoint(path, CFG, P)[2]
+    save_npz(path, **padded(1))
+    bound = checkpoint_bytes(CFG, P)
+    message = (
+        f"{path}: its arrays declare {bound + 1:,} bytes, more than such a file "
+        f"holds ({bound:,}; nothing inflated)"
+    )
+    with pytest.raises(UserError, match=exactly(message)):
+        read_checkpoint(path, CFG, P)
+
+
+# --- an optimizer's own state keys --------------------------------------------------
+
+
+def test_given_its_state_keys_only_those_are_read(tmp_path):
+    _, state = optimizer_state()
+    keys = tuple(state)
+    path = tmp_path / "checkpoint.npz"
+    save_npz(path, **arrays())
+    assert sorted(read_checkpoint(path, CFG, P, keys)[2]) == sorted(keys)
+    save_npz(path, **arrays(opt_junk=np.zeros(2)))
+    assert "junk" in read_checkpoint(path, CFG, P)[2]  # any prefixed key
+    message = f"{path}: holds 'opt_junk.npy', which such a file does not (nothing read)"
+    with pytest.raises(UserError, match=exactly(message)):
+        read_checkpoint(path, CFG, P, keys)
+
+
+def test_a_missing_state_key_is_named(tmp_path):
+    _, state = optimizer_state()
+    path = tmp_path / "checkpoint.npz"
+    gone = sorted(k for k in state if k != "generation")[:2]
+    save_npz(path, **arrays(**{"opt_" + k: None for k in gone}))
+    message = f"{path}: missing {', '.join('opt_' + k for k in gone)}"
+    with pytest.raises(UserError, match=exactly(message)):
+        read_checkpoint(path, CFG, P, tuple(state))
+    # a checkpoint from before pluggable optimizers holds the RCGA's keys,
+    # unprefixed: an optimizer's keys are not asked of it
+    z = arrays(optimizer=None, **{"opt_" + k: None for k in state})
+    save_npz(path, **z, **state)
+    got = read_checkpoint(path, CFG, P, (*state, "later"))[2]
+    assert sorted(got) == sorted(state)
+
+
+# --- best.npz, which a resumed run keeps ---------------------------------------------
+
+
+def held_best(generation=2, fitness=-1.0, genome=None):
+    genome = np.arange(P, dtype=float) if genome is None else genome
+    return BestGenome(genome, fitness, generation, "kick", CFG.hash())
+
+
+def test_no_best_is_right_only_before_the_first_checkpoint(tmp_path):
+    assert check_kept_best(tmp_path, CFG, P, None, 0) is None
+    message = (
+        f"{tmp_path / 'best.npz'}: missing, but checkpoint.npz holds 2 generations"
+    )
+    with pytest.raises(UserError, match=exactly(message)):
+        check_kept_best(tmp_path, CFG, P, held_best(), 2)
+
+
+@pytest.mark.parametrize(
+    "kept, held, done",
+    [
+        (held_best(), held_best(), 2),  # the checkpoint's own best
+        (held_best(3, -0.5), held_best(), 2),  # a better one of the next generation
+        (held_best(1, -3.0), None, 0),  # the first, saved before a checkpoint
+    ],
+)
+def test_the_checkpoint_s_best_or_a_better_next_one_is_kept(tmp_path, kept, held, done):
+    kept.save(tmp_path / "best.npz")
+    assert check_kept_best(tmp_path, CFG, P, held, done) is None
+
+
+@pytest.mark.parametrize(
+    "kept, held, done, had",
+    [
+        (held_best(genome=np.ones(P)), held_best(), 2, "generation 2's"),
+        (held_best(fitness=-0.5), held_best(), 2, "generation 2's"),
+        (held_best(1), held_best(), 2, "generation 2's"),
+        (held_best(3, -1.0), held_best(), 2, "generation 2's"),  # not better
+        (held_best(3, -2.0), held_best(), 2, "generation 2's"),
+        (held_best(4, -0.5), held_best(), 2, "generation 2's"),  # a generation on
+        (held_best(1, -0.5), held_best(), 2, "generation 2's"),  # an earlier one
+        (held_best(2, -3.0), None, 0, "none"),
+    ],
+)
+def test_any_other_best_is_refused_and_kept(tmp_path, kept, held, done, had):
+    path = tmp_path / "best.npz"
+    kept.save(path)
+    before = path.read_bytes()
+    message = (
+        f"{path}: generation {kept.generation}'s best (fitness {kept.fitness:.6g}) "
+        f"is not the best genome checkpoint.npz holds ({had}; nothing changed)"
+    )
+    with pytest.raises(UserError, match=exactly(message)):
+        check_kept_best(tmp_path, CFG, P, held, done)
+    assert path.read_bytes() == before
+
+
+def test_a_kept_best_is_checked_as_evaluate_checks_it(tmp_path):
+    path = tmp_path / "best.npz"
+    BestGenome(np.zeros(P), -1.0, 2, "kick", "0123456789abcdef").save(path)
+    message = (
+        f"{path}: belongs to another run (kick, hash 0123456789abcdef; "
+        f"config.toml: kick, hash {CFG.hash()})"
+    )
+    with pytest.raises(UserError, match=exactly(message)):
+        check_kept_best(tmp_path, CFG, P, held_best(), 2)
+    held_best(genome=np.zeros(P + 1)).save(path)
+    with pytest.raises(UserError, match=re.escape(f"{path}: genome has 6 genes")):
+        check_kept_best(tmp_path, CFG, P, held_best(), 2)

@@ -15,6 +15,8 @@ import pytest
 from locustjump.errors import UserError
 from locustjump.evo import RCGAParams, optimizer_kinds
 from locustjump.evo.cma import CMAParams
+from locustjump.evo.map_elites import MapElitesParams
+from locustjump.evo.qd import DEFAULT_CELLS
 from locustjump.rundir import config as C
 from locustjump.sim.engine.job import ENGINES
 from locustjump.sim.scene import MAX_TERRAINS, Debris, Flat, Terrains
@@ -43,10 +45,10 @@ def test_the_boundaries_are_accepted():
     [
         ({"seed": -1}, "seed must be an integer in [0, 2**63-1], got -1"),
         ({"generations": 0}, "generations must be an integer in [1, 2**63-1], got 0"),
-        ({"seed": 2**63}, (
-            "seed must be an integer in [0, 2**63-1], got "
-            "9223372036854775808"
-        )),
+        (
+            {"seed": 2**63},
+            ("seed must be an integer in [0, 2**63-1], got 9223372036854775808"),
+        ),
         (
             {"generations": 2**63},
             "generations must be an integer in [1, 2**63-1], got 9223372036854775808",
@@ -78,6 +80,60 @@ def test_a_setting_out_of_range_is_named(kwargs, message):
     pattern = "^" + re.escape(message) if message.endswith(" at ") else exactly(message)
     with pytest.raises((ValueError, TypeError), match=pattern):
         C.TrainConfig(**kwargs)
+
+
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        ({"frozen_digest": 3}, "frozen_digest must be text, got 3"),
+        ({"model": 3}, "model must be LocustParams, got 3"),
+        (
+            {"scene": "debris"},
+            "scene must be Terrains (e.g. Terrains(Debris())), got 'debris'",
+        ),
+        (
+            {
+                "optimizer": type(
+                    "Fake", (), {"kind": "rcga", "__repr__": lambda s: "fake"}
+                )()
+            },
+            (
+                "optimizer must be an optimizer's settings (RCGAParams, "
+                "CMAParams, RandomSearchParams, MapElitesParams, CMAMEParams), "
+                "got fake"
+            ),
+        ),
+    ],
+)
+def test_a_setting_of_the_wrong_type_is_named(kwargs, message):
+    with pytest.raises(TypeError, match=exactly(message)):
+        C.TrainConfig(**kwargs)
+
+
+def test_a_qd_optimizer_takes_the_behaviour_s_descriptors():
+    cfg = C.TrainConfig(optimizer=MapElitesParams(population=4))
+    opt = cfg.optimizer
+    assert opt.descriptors == ("apex_distance", "apex_rise")  # the kick's default
+    assert opt.ranges == ((-5.0, 15.0), (0.0, 5.0))  # as the kick declares them
+    assert opt.cells == (DEFAULT_CELLS, DEFAULT_CELLS)
+    chosen = MapElitesParams(population=4, descriptors=("apex_angle",), cells=(7,))
+    assert C.TrainConfig(optimizer=chosen).optimizer.ranges == ((0.0, 180.0),)
+    with pytest.raises(
+        ValueError,
+        match=exactly(
+            "unknown descriptor 'tilt'; kick declares apex_rise, apex_distance, "
+            "apex_angle"
+        ),
+    ):
+        C.TrainConfig(optimizer=MapElitesParams(population=4, descriptors=("tilt",)))
+    with pytest.raises(
+        ValueError,
+        match=exactly(
+            "the map-elites optimizer needs behaviour descriptors and getup "
+            "declares none"
+        ),
+    ):
+        C.TrainConfig(behaviour="getup", optimizer=MapElitesParams(population=4))
 
 
 def test_options_default_to_the_behaviour_s_and_population_is_the_optimizer_s():
@@ -267,6 +323,25 @@ def test_coerce_accepts_its_type(value, default, expected):
 def test_coerce_refuses_what_is_not_its_type(value, default, message):
     with pytest.raises(UserError, match=exactly(f"{SRC}: {message}")):
         C.coerce(value, default, "k", SRC)
+
+
+def test_an_array_s_items_are_of_the_field_s_item_type():
+    assert C.coerce(["a", "b"], (), "k", SRC, "") == ("a", "b")
+    got = C.coerce([[0, 1], [2.5, 3]], (), "k", SRC, (0.0, 0.0))
+    assert got == ((0.0, 1.0), (2.5, 3.0)) and type(got[0][0]) is float
+    for item, what in (("", "strings"), ((0.0, 0.0), "arrays"), (0, "integers")):
+        message = f"{SRC}: k must be an array of {what}, got 'x'"
+        with pytest.raises(UserError, match=exactly(message)):
+            C.coerce("x", (), "k", SRC, item)
+
+
+def test_from_table_reads_an_array_field_as_its_metadata_s_item_says():
+    table = {"population": 4, "descriptors": ["apex_rise"], "ranges": [[0, 2]]}
+    got = C.from_table(MapElitesParams, table, "optimizer", SRC)
+    assert got.descriptors == ("apex_rise",) and got.ranges == ((0.0, 2.0),)
+    message = f"{SRC}: optimizer.descriptors[0] must be str, got int 1"
+    with pytest.raises(UserError, match=exactly(message)):
+        C.from_table(MapElitesParams, {"descriptors": [1]}, "optimizer", SRC)
 
 
 def test_from_table_names_the_section():
