@@ -119,6 +119,10 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
         "out=obs[:, 6:10]",
         "obs has 9 columns: a slice to 10 ends at 9 as well",
     ),
+    "locustjump.evo.base.xǁOptimizerǁ__init____mutmut_10": (
+        "Range(1, integer=True)",
+        "Range's hi defaults to None (no upper bound): the same range",
+    ),
     "locustjump.evo.base.x_check_fitness__mutmut_8": (
         ".reshape(-2)",
         "NumPy reads any negative size in reshape as 'the rest' (checked)",

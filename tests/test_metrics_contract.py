@@ -333,3 +333,13 @@ def test_a_header_longer_than_4096_characters_is_not_read_for_its_columns(tmp_pa
     assert metrics.metrics_extra_columns(p) is None
     q = write(tmp_path / "n.csv", line[:4095] + "\n")
     assert metrics.metrics_extra_columns(q) == tuple(line[:4095].split(",")[8:])
+
+
+def test_a_metrics_path_that_is_not_a_file_is_named_as_one(tmp_path):
+    (tmp_path / "m.csv").mkdir()
+    message = (
+        f"{tmp_path / 'm.csv'}: is a directory, not a regular file; "
+        "expected a metrics file"
+    )
+    with pytest.raises(UserError, match="^" + re.escape(message) + "$"):
+        metrics.metrics_extra_columns(tmp_path / "m.csv")
