@@ -116,3 +116,80 @@ def test_a_repertoire_composition_trains_and_resumes_bit_for_bit(
     ev = run_cli("evaluate", str(tmp_path / "a"), "--json")
     assert ev.returncode == 0 and '"fitness_matches": true' in ev.stdout
     assert '"kick elite 1"' in ev.stdout  # its steps under each network
+
+
+def test_the_repertoire_figure_marks_the_chosen_elites_and_checks_its_runs(
+    sources, params, tmp_path, rng, capsys
+):
+    from pathlib import Path
+
+    root = sources
+    kick = FrozenGenomes.from_runs(
+        ("kick",), {"kick": root / "qd"}, params, 144, {"kick": 2}
+    )
+    frozen = FrozenGenomes(
+        ComposedRepertoire.frozen_names(RepertoireOptions(elites=2)),
+        np.concatenate([kick.genomes, NET.random_genomes(rng, 2)]),
+        (*kick.sources, "g", "r"),
+        (*kick.hashes, "0", "0"),
+    )
+    cfg = TrainConfig(
+        behaviour="composed-repertoire",
+        generations=1,
+        optimizer=RCGAParams(population=3, elite=1),
+        options=RepertoireOptions(elites=2, switch_every=50),
+    )
+    train(cfg, tmp_path / "c", progress=False, frozen=frozen)
+    import importlib.util
+
+    path = Path(__file__).resolve().parent.parent / "scripts" / "repertoire_figure.py"
+    spec = importlib.util.spec_from_file_location("repertoire_figure", path)
+    script = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(script)
+
+    def figure(*args):
+        code = script.main([str(a) for a in args])
+        err = capsys.readouterr().err
+        return code, err
+
+    png = tmp_path / "r.png"
+    code, err = figure(root / "qd", tmp_path / "c", "--out", png)
+    assert code == 0, err
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    before = png.read_bytes()
+    code, err = figure(root / "qd", tmp_path / "c", "--out", png)
+    assert code == 2 and "exists (give --force" in err
+    assert png.read_bytes() == before
+    # a kick run that keeps no archive, and a run that composes none
+    other = tmp_path / "o.png"
+    code, err = figure(root / "ga", tmp_path / "c", "--out", other)
+    assert code == 2 and err.count("\n") == 1, err
+    assert "keeps no archive of elites" in err
+    code, err = figure(root / "qd", root / "ga", "--out", other)
+    assert code == 2 and "a kick run, not a composition over a" in err
+    assert not other.exists()
+
+
+def test_the_repertoire_figure_refuses_a_composition_of_other_elites(
+    sources, params, tmp_path, rng
+):
+    from locustjump.errors import UserError
+    from locustjump.present.repertoire import composition_figure
+
+    frozen = FrozenGenomes(
+        ComposedRepertoire.frozen_names(RepertoireOptions(elites=2)),
+        NET.random_genomes(rng, 4),
+        ("a", "b", "g", "r"),
+        ("0", "0", "0", "0"),
+    )
+    cfg = TrainConfig(
+        behaviour="composed-repertoire",
+        generations=1,
+        optimizer=RCGAParams(population=3, elite=1),
+        options=RepertoireOptions(elites=2, switch_every=50),
+    )
+    train(cfg, tmp_path / "c", progress=False, frozen=frozen)
+    message = "its 2 kick networks are not the 2 best elites of"
+    with pytest.raises(UserError, match=message):
+        composition_figure(sources / "qd", tmp_path / "c", tmp_path / "x.png")
+    assert not (tmp_path / "x.png").exists()

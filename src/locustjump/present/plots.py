@@ -150,28 +150,43 @@ def composed_figure(
     if title:
         ax.set_title(title)
     if selected is not None:
-        tl = axes[1, 0]
-        palette: list[Any] = ["tab:red", "tab:green", "tab:blue"]
-        if len(names) > len(palette):  # a repertoire's: its elites, then the rest
-            tab20 = colormaps["tab20"]
-            palette = [tab20(i % 20) for i in range(len(names))]
-        colors = ListedColormap(palette[: len(names)])
-        tl.imshow(
-            selected[None, :],
-            aspect="auto",
-            cmap=colors,
-            vmin=-0.5,
-            vmax=len(names) - 0.5,
-            interpolation="nearest",
-            extent=(0, len(selected) * CONTROL_DT, 0, 1),
-        )
-        tl.set_yticks([])
-        tl.set_xlabel("time [s]")
-        tl.set_title("selected simple behaviour", fontsize=9)
-        for i, n in enumerate(names):
-            tl.plot([], [], "s", color=colors(i), label=n)
-        tl.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=8)
+        selection_strip(axes[1, 0], selected, names)
     _save(fig, path)
+
+
+def behaviour_colours(n: int) -> ListedColormap:
+    """The colour of each of ``n`` simple behaviours a switcher selects: the
+    paper's three, or a repertoire's elites and the rest (tab20)."""
+    palette: list[Any] = ["tab:red", "tab:green", "tab:blue"]
+    if n > len(palette):
+        tab20 = colormaps["tab20"]
+        palette = [tab20(i % 20) for i in range(n)]
+    return ListedColormap(palette[:n])
+
+
+def selection_strip(
+    ax: Any, selected: np.ndarray, names: tuple[str, ...], *, legend_ax: Any = None
+) -> None:
+    """On ``ax``: the behaviour selected at each control step, one colour each
+    (:func:`behaviour_colours`), over time, with a legend of ``names`` to the
+    right of ``legend_ax`` (default: ``ax``)."""
+    colors = behaviour_colours(len(names))
+    ax.imshow(
+        selected[None, :],
+        aspect="auto",
+        cmap=colors,
+        vmin=-0.5,
+        vmax=len(names) - 0.5,
+        interpolation="nearest",
+        extent=(0, len(selected) * CONTROL_DT, 0, 1),
+    )
+    ax.set_yticks([])
+    ax.set_xlabel("time [s]")
+    ax.set_title("selected simple behaviour", fontsize=9)
+    legend_ax = ax if legend_ax is None else legend_ax
+    for i, n in enumerate(names):
+        legend_ax.plot([], [], "s", color=colors(i), label=n)
+    legend_ax.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=8)
 
 
 def getup_figure(
@@ -229,13 +244,28 @@ def sweep_figure(path: Path, sweep, *, title: str = "") -> None:
 
 
 def archive_heatmap(
-    path: Path, archive, *, units: dict[str, str] | None = None, title: str = ""
+    path: Path, archive: Any, *, units: dict[str, str] | None = None, title: str = ""
 ) -> None:
     """A grid archive's elites (:class:`~locustjump.evo.archive.Archive`) as a
-    heatmap: fitness colour per cell of the first two descriptors (x, y),
-    empty cells blank; with one descriptor, one row; with more, each cell of
-    the first two shows the best over the others. Top and right axes: the
-    cell indices (``--cell i,j``)."""
+    heatmap (:func:`draw_archive`), written to ``path``."""
+    fig, ax = subplots(figsize=(6.4, 5.0))
+    draw_archive(fig, ax, archive, units=units, title=title)
+    _save(fig, path)
+
+
+def draw_archive(
+    fig: Any,
+    ax: Any,
+    archive: Any,
+    *,
+    units: dict[str, str] | None = None,
+    title: str = "",
+) -> None:
+    """On ``ax`` of ``fig``: a grid archive's elites as a heatmap, fitness
+    colour per cell of the first two descriptors (x, y), empty cells blank;
+    with one descriptor, one row; with more, each cell of the first two shows
+    the best over the others. Top and right axes: the cell indices (``--cell
+    i,j``)."""
     heat = archive.heat()
     if heat.ndim == 1:
         heat = heat[:, None]
@@ -244,7 +274,6 @@ def archive_heatmap(
         best = np.where(np.isnan(flat), -np.inf, flat).max(axis=2)
         heat = np.where(np.isneginf(best), np.nan, best)
     units = units or {}
-    fig, ax = subplots(figsize=(6.4, 5.0))
     xs = archive.edges(0)
     ys = archive.edges(1) if len(archive.dims) > 1 else np.array([0.0, 1.0])
     mesh = ax.pcolormesh(xs, ys, np.ma.masked_invalid(heat.T), cmap="viridis")
@@ -276,4 +305,54 @@ def archive_heatmap(
         f"QD score {archive.qd_score():.4g}" + (more if len(archive.dims) > 2 else ""),
         fontsize=9,
     )
+
+
+def repertoire_composition_figure(
+    path: Path,
+    archive: Any,
+    chosen: np.ndarray,
+    height: np.ndarray,
+    selected: np.ndarray,
+    names: tuple[str, ...],
+    *,
+    units: dict[str, str] | None = None,
+    title: str = "",
+    suptitle: str = "",
+) -> None:
+    """A composition over a repertoire in one figure: left, the kick archive
+    (:func:`draw_archive`) with each elite the switcher chooses among
+    numbered in its cell; right, one episode of the switcher: the body's
+    height over time and, under it, the behaviour selected at each control
+    step (:func:`selection_strip`), elite ``i`` in the colour of its number.
+
+    Args:
+      chosen: positions in ``archive`` of the elites, in the switcher's order.
+      height: (T + 1,) the body's height (m) at each control step.
+      selected: (T,) index into ``names`` per control step.
+      names: the switcher's behaviours, the elites first.
+    """
+    fig = Figure(figsize=(13, 4.8), constrained_layout=True)
+    grid = fig.add_gridspec(2, 2, width_ratios=[1.0, 1.45], height_ratios=[4, 1])
+    ax = fig.add_subplot(grid[:, 0])
+    draw_archive(fig, ax, archive, units=units, title="the kick repertoire")
+    colors = behaviour_colours(len(names))
+    cells = archive.grid_index()[chosen]
+    for i, cell in enumerate(cells):
+        x = archive.edges(0)[cell[0] : cell[0] + 2].mean()
+        y = archive.edges(1)[cell[1] : cell[1] + 2].mean() if len(cell) > 1 else 0.5
+        circle = {"boxstyle": "circle,pad=0.2", "fc": colors(i), "ec": "white"}
+        ax.text(x, y, str(i), ha="center", va="center", fontsize=8, color="white",
+                bbox=circle)  # fmt: skip
+    top = fig.add_subplot(grid[0, 1])
+    t = np.arange(len(height)) * CONTROL_DT
+    top.plot(t, height, color="k", lw=1.0)
+    top.set_ylabel("height z [m]")
+    top.set_xlim(0, t[-1])
+    top.grid(alpha=0.3)
+    if title:
+        top.set_title(title, fontsize=9)
+    if suptitle:
+        fig.suptitle(suptitle, fontsize=10)
+    strip = fig.add_subplot(grid[1, 1], sharex=top)
+    selection_strip(strip, selected, names, legend_ax=top)
     _save(fig, path)
