@@ -74,15 +74,20 @@ NUSERDATA = 3
 #: MuJoCo at import, and this path is off where they differ.
 OFFSETS = (160688, 160744, 160816, 160808, 160264, 736)
 _OFF_QPOS, _OFF_CTRL, _OFF_SENS, _OFF_USER, _OFF_WARN, _OFF_NUSER = OFFSETS
-#: SHA-256 of kernels.py, whose functions the cached compiled code below calls:
-#: Numba's cache notices changes to this file only, so a change there must
-#: change this line too (``tests/test_incallback.py`` says so, with the digest)
-KERNELS_SHA256 = "c527a0a66140b4ce940f0b864c8e51d3bf046ab00dee789d0863d37789d51a13"
+#: SHA-256 of the kernels' sources (``kernels.SOURCES``: kernels.py and
+#: cephes.py), whose functions the cached compiled code below calls: Numba's
+#: cache notices changes to this file only, so a change there must change this
+#: line too (``tests/test_incallback.py`` says so, with the digest)
+KERNELS_SHA256 = "24b248d00d673cef785a8996a8944d932e8785c474a57d783f4f2eb753b642cd"
 
 
-def kernels_digest() -> str:
-    with open(K.__file__, "rb") as f:
-        return hashlib.sha256(f.read()).hexdigest()
+def kernels_digest(sources: tuple[str, ...] = K.SOURCES) -> str:
+    """SHA-256 of the files ``sources``, one after the other."""
+    digest = hashlib.sha256()
+    for path in sources:
+        with open(path, "rb") as f:
+            digest.update(f.read())
+    return digest.hexdigest()
 
 
 _LAYOUT = mjlayout.offsets(NUSERDATA) == OFFSETS
@@ -92,8 +97,8 @@ if not AVAILABLE:
         f"MuJoCo {mujoco.__version__}'s mjData layout is not the one the "
         "in-callback engine was built for"
         if not _LAYOUT
-        else "kernels.py changed since incallback.py was compiled against it "
-        "(KERNELS_SHA256)"
+        else "kernels.py or cephes.py changed since incallback.py was compiled "
+        "against them (KERNELS_SHA256)"
     )
     why += "; the step-by-step compiled loop runs instead (same results, slower)"
     # nothing a caller can change: a diagnostic (logging), not a warning to
