@@ -20,7 +20,7 @@ from mujoco.batch import Batch
 
 from locustjump.sim import model as lm
 from locustjump.sim.controller import MLP
-from locustjump.sim.engine import incallback, mjlayout
+from locustjump.sim.engine import callback, incallback, mjlayout
 from locustjump.sim.engine.compiled import run_compiled
 from locustjump.sim.engine.incallback import run_incallback
 from locustjump.sim.engine.job import STEP_RECORDS
@@ -34,13 +34,15 @@ needs_layout = pytest.mark.skipif(
 
 
 def test_the_kernels_digest_is_current():
-    """incallback.py's cached compiled code calls the kernels (kernels.py and
+    """callback.py's cached compiled code calls the kernels (kernels.py and
     the cephes.py functions they call), whose changes Numba's cache does not
     notice: a change there must come with this digest."""
-    assert incallback.kernels_digest() == incallback.KERNELS_SHA256, (
-        "kernels.py or cephes.py changed: set incallback.KERNELS_SHA256 = "
-        f'"{incallback.kernels_digest()}"'
+    assert callback.kernels_digest() == callback.KERNELS_SHA256, (
+        "kernels.py or cephes.py changed: set callback.KERNELS_SHA256 = "
+        f'"{callback.kernels_digest()}"'
     )
+    # importable from the engine's module, as before the callback had its own
+    assert incallback.KERNELS_SHA256 is callback.KERNELS_SHA256
 
 
 def test_the_cephes_digest_is_current():
@@ -58,7 +60,7 @@ def test_the_cephes_digest_is_current():
 
 def test_the_in_callback_digest_covers_every_file_of_the_kernels(tmp_path):
     """The files the kernels come from are kernels.py and cephes.py, and a
-    change to any one of them changes the digest that guards incallback.py's
+    change to any one of them changes the digest that guards callback.py's
     cached code."""
     from locustjump.sim import cephes, kernels
 
@@ -67,12 +69,12 @@ def test_the_in_callback_digest_covers_every_file_of_the_kernels(tmp_path):
     for source, copy in zip(kernels.SOURCES, copies, strict=True):
         copy.write_bytes(Path(source).read_bytes())
     paths = tuple(map(str, copies))
-    digest = incallback.kernels_digest(paths)
-    assert digest == incallback.kernels_digest()
+    digest = callback.kernels_digest(paths)
+    assert digest == callback.kernels_digest()
     for copy in copies:
         before = copy.read_bytes()
         copy.write_bytes(before + b"#")
-        assert incallback.kernels_digest(paths) != digest, copy
+        assert callback.kernels_digest(paths) != digest, copy
         copy.write_bytes(before)
 
 
@@ -131,8 +133,8 @@ def test_a_changed_cephes_turns_the_kernels_cache_off(tmp_path):
 def test_the_field_offsets_are_those_of_this_mujoco():
     # the literals the compiled callback was built with, against the offsets
     # read from MuJoCo's own struct descriptions and checked on live data
-    assert mjlayout.offsets(incallback.NUSERDATA) == incallback.OFFSETS
-    assert incallback.AVAILABLE
+    assert mjlayout.offsets(callback.NUSERDATA) == callback.OFFSETS
+    assert callback.AVAILABLE and incallback.AVAILABLE
 
 
 def _both(job: RolloutJob, threads: int = 2):
@@ -254,7 +256,7 @@ def test_the_callback_leaves_other_simulations_alone():
         d, od = mujoco.MjData(m), mujoco.MjData(other)
         d.ctrl[:] = 0.3
         if installed:
-            mujoco.set_mjcb_control(incallback._control.ctypes)
+            mujoco.set_mjcb_control(callback._control.ctypes)
         try:
             mujoco.mj_step(m, d, 30)
             mujoco.mj_step(other, od, 30)
