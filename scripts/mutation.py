@@ -108,21 +108,22 @@ FUNCTIONS: dict[str, tuple[str, ...]] = {
 
 #: what the table leaves out, and why (docs/mutation.md)
 NOT_COVERED = """\
-`sim/kernels.py` is not in the table: every kernel is compiled by Numba
-(`@njit`), and mutmut 3 does not mutate a decorated function (it would
-have to wrap it in a Python trampoline, which Numba cannot compile).
-Mutating the kernels needs a tool that rewrites the file on disk for
-each mutant (cosmic-ray) and a test run that cannot reuse compiled code:
-the kernels' tests (`tests/test_engine.py`, `tests/test_incallback.py`,
-19 tests) pass with `NUMBA_DISABLE_JIT=1` in 86 s, against 323 s from an
-empty cache (compiling) and 30 s warm (measured 2026-11-25 on the busy
-2-core VM), so 1.5 to 5 minutes a mutant. No cached machine code can
-stand in for a mutant of the modules above: Numba 0.68 keys a kernel's
-cache on a SHA-256 of the kernel's own file, `kernels.py` reads no
-global from another locustjump module (`tests/test_incallback.py`
-checks it), the modules above are plain NumPy, and each run starts with
-an empty Numba cache (`NUMBA_CACHE_DIR`) and a fresh copy of the
-package under `mutants/src`.
+`sim/kernels.py` (with `sim/cephes.py`) is not in the table: every
+kernel is compiled by Numba (`@njit`), and mutmut 3 does not mutate a
+decorated function (it would have to wrap it in a Python trampoline,
+which Numba cannot compile). Mutating the kernels needs a tool that
+rewrites the file on disk for each mutant (cosmic-ray) and a test run
+that cannot reuse compiled code: the kernels' tests
+(`tests/test_engine.py`, `tests/test_incallback.py`, 19 tests) pass with
+`NUMBA_DISABLE_JIT=1` in 86 s, against 323 s from an empty cache
+(compiling) and 30 s warm (measured 2026-11-25 on the busy 2-core VM),
+so 1.5 to 5 minutes a mutant. No cached machine code can stand in for a
+mutant of the modules above: Numba 0.68 keys a kernel's cache on a
+SHA-256 of the kernel's own file, `kernels.py` reads no global from
+another locustjump module but `cephes.py`'s functions, whose SHA-256 it
+carries (`tests/test_incallback.py` checks both), the modules above are
+plain NumPy, and each run starts with an empty Numba cache
+(`NUMBA_CACHE_DIR`) and a fresh copy of the package under `mutants/src`.
 """
 
 #: mutmut's exit codes: a test failed (or the mutant hung: a timeout)

@@ -3,8 +3,15 @@
 (:func:`locustjump.sim.engine.compiled.run_compiled`): the same kernels on one episode's
 slices, so every record, failure step and step count agrees bit for bit."""
 
+import ast
 import ctypes
 import dataclasses
+import hashlib
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
 
 import mujoco
 import numpy as np
@@ -13,7 +20,7 @@ from mujoco.batch import Batch
 
 from locustjump.sim import model as lm
 from locustjump.sim.controller import MLP
-from locustjump.sim.engine import incallback, mjlayout
+from locustjump.sim.engine import callback, incallback, mjlayout
 from locustjump.sim.engine.compiled import run_compiled
 from locustjump.sim.engine.incallback import run_incallback
 from locustjump.sim.engine.job import STEP_RECORDS
@@ -27,40 +34,107 @@ needs_layout = pytest.mark.skipif(
 
 
 def test_the_kernels_digest_is_current():
-    """incallback.py's cached compiled code calls kernels.py, whose changes
-    Numba's cache does not notice: a change there must come with this digest."""
-    assert incallback.kernels_digest() == incallback.KERNELS_SHA256, (
-        "kernels.py changed: set incallback.KERNELS_SHA256 = "
-        f'"{incallback.kernels_digest()}"'
+    """callback.py's cached compiled code calls the kernels (kernels.py and
+    the cephes.py functions they call), whose changes Numba's cache does not
+    notice: a change there must come with this digest."""
+    assert callback.kernels_digest() == callback.KERNELS_SHA256, (
+        "kernels.py or cephes.py changed: set callback.KERNELS_SHA256 = "
+        f'"{callback.kernels_digest()}"'
     )
+    # importable from the engine's module, as before the callback had its own
+    assert incallback.KERNELS_SHA256 is callback.KERNELS_SHA256
+
+
+def test_the_cephes_digest_is_current():
+    """kernels.py's cached code holds cephes.py's exp and tanh, compiled in:
+    a change to cephes.py must come with kernels.py's line naming it (else
+    the kernels are compiled afresh in every process)."""
+    from locustjump.sim import cephes, kernels
+
+    digest = hashlib.sha256(Path(cephes.__file__).read_bytes()).hexdigest()
+    assert digest == kernels.CEPHES_SHA256, (
+        f'cephes.py changed: set kernels.CEPHES_SHA256 = "{digest}"'
+    )
+    assert kernels.CACHE
+
+
+def test_the_in_callback_digest_covers_every_file_of_the_kernels(tmp_path):
+    """The files the kernels come from are kernels.py and cephes.py, and a
+    change to any one of them changes the digest that guards callback.py's
+    cached code."""
+    from locustjump.sim import cephes, kernels
+
+    assert kernels.SOURCES == (kernels.__file__, cephes.__file__)
+    copies = [tmp_path / Path(s).name for s in kernels.SOURCES]
+    for source, copy in zip(kernels.SOURCES, copies, strict=True):
+        copy.write_bytes(Path(source).read_bytes())
+    paths = tuple(map(str, copies))
+    digest = callback.kernels_digest(paths)
+    assert digest == callback.kernels_digest()
+    for copy in copies:
+        before = copy.read_bytes()
+        copy.write_bytes(before + b"#")
+        assert callback.kernels_digest(paths) != digest, copy
+        copy.write_bytes(before)
+
+
+def _imports(path: str) -> list[str]:
+    """What the module at ``path`` imports from locustjump, each name whole
+    (``from locustjump.sim import cephes``: ``locustjump.sim.cephes``)."""
+    tree = ast.parse(Path(path).read_text())
+    names = [
+        f"{n.module}.{a.name}"
+        for n in ast.walk(tree)
+        if isinstance(n, ast.ImportFrom) and n.module
+        for a in n.names
+    ] + [a.name for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names]
+    return [m for m in names if m.split(".")[0] == "locustjump"]
 
 
 def test_the_cached_kernels_read_nothing_from_another_module():
     """Numba's cache keys a kernel's machine code on its own file, and the
     globals it reads are frozen into that code: a constant imported from
     another module (MAX_DELTA from actuation.py, once) could change there
-    while the cached kernel kept the old value. kernels.py imports nothing
-    from locustjump, and the actuation rule's limit is the kernels' own."""
-    import ast
-    from pathlib import Path
+    while the cached kernel kept the old value. kernels.py imports from
+    locustjump only cephes.py, whose digest it carries (above), cephes.py
+    nothing, and the actuation rule's limit is the kernels' own."""
+    from locustjump.sim import actuation, cephes, kernels
 
-    from locustjump.sim import actuation, kernels
-
-    tree = ast.parse(Path(kernels.__file__).read_text())
-    imported = [
-        n.module
-        for n in ast.walk(tree)
-        if isinstance(n, ast.ImportFrom) and n.module and n.module != "__future__"
-    ] + [a.name for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names]
-    assert not [m for m in imported if m.startswith("locustjump")], imported
+    ours = _imports(kernels.__file__)
+    assert ours and all(m.startswith("locustjump.sim.cephes") for m in ours), ours
+    assert not _imports(cephes.__file__)
     assert actuation.MAX_DELTA is kernels.MAX_DELTA
+
+
+def test_a_changed_cephes_turns_the_kernels_cache_off(tmp_path):
+    """A copy of the package with cephes.py changed and kernels.py not: its
+    kernels are not cached (and it says so); the copy as it is: cached."""
+    for changed in (False, True):
+        src = tmp_path / str(changed) / "src"
+        shutil.copytree(Path(incallback.__file__).parents[2], src / "locustjump",
+                        ignore=shutil.ignore_patterns("__pycache__"))  # fmt: skip
+        if changed:
+            with open(src / "locustjump" / "sim" / "cephes.py", "a") as f:
+                f.write("# changed\n")
+        r = subprocess.run(
+            [sys.executable, "-c", "from locustjump.sim import kernels as k; "
+             "print(k.CACHE, k.__file__)"],
+            env={**os.environ, "PYTHONPATH": str(src),
+                 "NUMBA_CACHE_DIR": str(tmp_path / "numba")},
+            capture_output=True, text=True, timeout=120,
+        )  # fmt: skip
+        assert r.returncode == 0, r.stderr
+        cached, where = r.stdout.split()
+        assert Path(where).is_relative_to(src)
+        assert cached == str(not changed)
+        assert ("CEPHES_SHA256" in r.stderr) is changed, r.stderr
 
 
 def test_the_field_offsets_are_those_of_this_mujoco():
     # the literals the compiled callback was built with, against the offsets
     # read from MuJoCo's own struct descriptions and checked on live data
-    assert mjlayout.offsets(incallback.NUSERDATA) == incallback.OFFSETS
-    assert incallback.AVAILABLE
+    assert mjlayout.offsets(callback.NUSERDATA) == callback.OFFSETS
+    assert callback.AVAILABLE and incallback.AVAILABLE
 
 
 def _both(job: RolloutJob, threads: int = 2):
@@ -182,7 +256,7 @@ def test_the_callback_leaves_other_simulations_alone():
         d, od = mujoco.MjData(m), mujoco.MjData(other)
         d.ctrl[:] = 0.3
         if installed:
-            mujoco.set_mjcb_control(incallback._control.ctypes)
+            mujoco.set_mjcb_control(callback._control.ctypes)
         try:
             mujoco.mj_step(m, d, 30)
             mujoco.mj_step(other, od, 30)

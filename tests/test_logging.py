@@ -56,7 +56,7 @@ def test_the_command_line_shows_progress_on_stdout_and_warnings_on_stderr(
     console.configure()
     console.configure()  # once, however often
     logging.getLogger("locustjump.runs.reproduce").info("[kick] training")
-    logging.getLogger("locustjump.sim.engine.incallback").warning("layout differs")
+    logging.getLogger("locustjump.sim.engine.callback").warning("layout differs")
     logging.getLogger("locustjump.runs.reproduce").debug("detail")
     logging.getLogger(console.MUJOCO).info("MuJoCo: Nan in QACC")
     out, err = capsys.readouterr()

@@ -55,7 +55,7 @@ _ANY_NUMBER = Range()
 
 def option_type(name: str, field: dataclasses.Field[Any]) -> Callable[[str], Any]:
     """The argument type of option ``name``, a behaviour's (declared with
-    :func:`locustjump.tasks.base.option`): its declared range (of each
+    :func:`locustjump.tasks.options.option`): its declared range (of each
     number, for a tuple), else the form of its default."""
     if "range" in field.metadata:
         return ranged(name, field.metadata["range"])

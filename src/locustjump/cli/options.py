@@ -169,7 +169,7 @@ def option_flag(name: str) -> str:
 
 def behaviour_options() -> dict[str, tuple[dataclasses.Field, tuple[str, ...]]]:
     """Every option a registered behaviour declares
-    (:func:`locustjump.tasks.base.option`): its name -> (its field, the
+    (:func:`locustjump.tasks.options.option`): its name -> (its field, the
     behaviours that take it), in the order first declared."""
     found: dict[str, tuple[dataclasses.Field, tuple[str, ...]]] = {}
     for b in behaviour_names():

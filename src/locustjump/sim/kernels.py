@@ -14,10 +14,11 @@ are the same IEEE operations in the same order as in NumPy, so they agree bit
 for bit. The networks do not: NumPy's ``matmul`` sums through BLAS (whose order
 depends on the CPU's kernel) and ``np.tanh`` is NumPy's own SIMD routine. Here
 the sums run in input order, and ``tanh``/``exp`` are Cephes' rational
-approximations in plain arithmetic (so that the compiler vectorizes them over
-episodes and the result depends on no library): within a few units in the
-last place of NumPy's (tested). Each path is deterministic and independent of
-threads and batch splits; a run's ``config.toml`` records its path.
+approximations in plain arithmetic (:mod:`locustjump.sim.cephes`: the
+compiler vectorizes them over episodes and the result depends on no
+library): within a few units in the last place of NumPy's (tested). Each
+path is deterministic and independent of threads and batch splits; a run's
+``config.toml`` records its path.
 
 Weights are laid out episode-last ("structure of arrays"), so that every loop's
 innermost index runs over episodes and vectorizes.
@@ -25,6 +26,8 @@ innermost index runs over episodes and vectorizes.
 
 from __future__ import annotations
 
+import hashlib
+import logging
 import math
 from typing import NamedTuple
 
@@ -32,9 +35,34 @@ import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
-# Numba caches the machine code of these kernels keyed on this file alone, and
-# a global a kernel reads is frozen into that code: so every value a kernel
-# reads is defined here, never imported (tests/test_incallback.py checks it).
+from locustjump.sim import cephes
+from locustjump.sim.cephes import exp as exp
+from locustjump.sim.cephes import tanh as tanh
+
+# Numba caches a kernel's machine code keyed on this file alone, with what it
+# calls and every global it reads compiled in: so a value a kernel reads is
+# defined here, never imported, but for cephes.py's functions (checked by
+# tests/test_incallback.py), whose SHA-256 this line carries: a change there
+# must change this file too. Until it does, the kernels compile afresh in
+# every process rather than read a cache that may hold the old cephes.py.
+CEPHES_SHA256 = "fc4ff28fe6d7cc1366844ab25259330f5ba3eb2589471291b2ab8073a3df8d3b"
+#: the files the kernels' machine code comes from (the in-callback engine,
+#: whose cached callback calls the kernels, hashes them all)
+SOURCES = (__file__, cephes.__file__)
+
+
+def _sha256(path: str) -> str:
+    with open(path, "rb") as f:
+        return hashlib.sha256(f.read()).hexdigest()
+
+
+#: whether the kernels are cached (cephes.py is the file this one names)
+CACHE = _sha256(cephes.__file__) == CEPHES_SHA256
+if not CACHE:  # a diagnostic, as the in-callback engine's fallback
+    logging.getLogger(__name__).warning(
+        "cephes.py changed since kernels.py named it (CEPHES_SHA256): the "
+        "kernels are compiled afresh in every process (same results, slower start)"
+    )
 # actuation.py takes the rule's limit from here.
 MAX_DELTA = np.radians(10.0)  # (rad) largest target change per control step
 
@@ -50,80 +78,8 @@ Net = tuple[F64, ...]
 DELTA, SIGMOID, LINEAR = 0, 1, 2
 OUTPUTS = {"delta": DELTA, "sigmoid": SIGMOID, "linear": LINEAR}
 
-# Cephes exp.c: exp(x) = 2^n exp(r), r in [-ln2/2, ln2/2], a (3,4) Pade form
-_LOG2E = 1.4426950408889634073599
-_C1 = 6.93145751953125e-1
-_C2 = 1.42860682030941723212e-6
-_EP0, _EP1, _EP2 = 1.26177193074810590878e-4, 3.02994407707441961300e-2, 1.0
-_EQ0, _EQ1 = 3.00198505138664455042e-6, 2.52448340349684104192e-3
-_EQ2, _EQ3 = 2.27265548208155028766e-1, 2.0
-_EXP_LO, _EXP_HI = -700.0, 700.0  # clamp (exp(-700) ~ 1e-304: still normal)
-#: 2^n for n in [-1010, 1010] (a table: a bit cast would not vectorize)
-_POW2 = np.ldexp(1.0, np.arange(-1010, 1011))
-_POW2_BIAS = 1010
-# Cephes tanh.c: |x| < 0.625: x + x^3 P(x^2)/Q(x^2); else 1 - 2/(exp(2|x|)+1)
-_TP0 = -9.64399179425052238628e-1
-_TP1 = -9.92877231001918586564e1
-_TP2 = -1.61468768441708447952e3
-_TQ0 = 1.12811678491632931402e2
-_TQ1 = 2.23548839060100448583e3
-_TQ2 = 4.84406305325125486048e3
 
-
-@njit(cache=True, inline="always", error_model="numpy")
-def _exp_parts(x: float) -> tuple[float, float]:
-    """``(n, m)`` with e^x = m * 2^n: Cephes' reduction to r in [-ln2/2,
-    ln2/2] and its (3,4) Pade form of e^r."""
-    px = np.floor(_LOG2E * x + 0.5)
-    r = x - px * _C1
-    r = r - px * _C2
-    rr = r * r
-    p = r * ((_EP0 * rr + _EP1) * rr + _EP2)
-    q = ((_EQ0 * rr + _EQ1) * rr + _EQ2) * rr + _EQ3
-    return px, 1.0 + 2.0 * (p / (q - p))
-
-
-@njit(cache=True, inline="always", error_model="numpy")
-def exp(x: float) -> float:
-    """e^x (x clamped to [-700, 700]), Cephes' algorithm, branch-free."""
-    px, y = _exp_parts(min(max(x, _EXP_LO), _EXP_HI))
-    e: float = y * _POW2[int(px) + _POW2_BIAS]
-    return e
-
-
-@njit(cache=True, inline="always", error_model="numpy")
-def _exp_tanh(x: float) -> float:
-    """e^x for x in [0, 40] (tanh's range), as :func:`exp` but with 2^n made
-    by exact multiplications and selects instead of a table (vectorizes)."""
-    px, y = _exp_parts(x)
-    # 2^px, px in [0, 58], bit by bit (unrolled: selects of exact products)
-    t = px >= 32.0
-    px, y = (px - 32.0, y * 4294967296.0) if t else (px, y)
-    t = px >= 16.0
-    px, y = (px - 16.0, y * 65536.0) if t else (px, y)
-    t = px >= 8.0
-    px, y = (px - 8.0, y * 256.0) if t else (px, y)
-    t = px >= 4.0
-    px, y = (px - 4.0, y * 16.0) if t else (px, y)
-    t = px >= 2.0
-    px, y = (px - 2.0, y * 4.0) if t else (px, y)
-    return y * 2.0 if px >= 1.0 else y
-
-
-@njit(cache=True, inline="always", error_model="numpy")
-def tanh(x: float) -> float:
-    """tanh(x), Cephes' algorithm; both branches computed, one selected (so
-    that a loop over episodes vectorizes)."""
-    z = abs(x)
-    s = x * x
-    ratio = ((_TP0 * s + _TP1) * s + _TP2) / (((s + _TQ0) * s + _TQ1) * s + _TQ2)
-    small = x + x * s * ratio
-    big = 1.0 - 2.0 / (_exp_tanh(min(z, 20.0) * 2.0) + 1.0)
-    big = -big if x < 0.0 else big
-    return small if z < 0.625 else big
-
-
-@njit(cache=True, inline="always", error_model="numpy")
+@njit(cache=CACHE, inline="always", error_model="numpy")
 def _layer_sum(w: F64, k: int, x: F64, out: F64) -> None:
     """``out[k, e] = sum_j w[k, j, e] * x[j, e]``, summed in input order."""
     for e in range(x.shape[1]):
@@ -133,7 +89,7 @@ def _layer_sum(w: F64, k: int, x: F64, out: F64) -> None:
             out[k, e] += w[k, j, e] * x[j, e]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=CACHE, error_model="numpy")
 def mlp(
     w1: F64, b1: F64, w2: F64, b2: F64, x: F64, out: F64, hidden: F64, output: int
 ) -> None:
@@ -158,7 +114,7 @@ def mlp(
                 out[k, e] += b2[k, e]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=CACHE, error_model="numpy")
 def switch(
     t: int,
     every: int,
@@ -194,7 +150,7 @@ def switch(
                     out[k, e] = scratch[k, e]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=CACHE, error_model="numpy")
 def sense_and_check(
     sub: F64,
     ids: Index,
@@ -229,7 +185,7 @@ def sense_and_check(
     return count
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=CACHE, error_model="numpy")
 def observe(
     qpos: F64, sens: F64, joints: Index, touch: Index, body_length: float, obs: F64
 ) -> None:
@@ -250,7 +206,7 @@ def observe(
         obs[8, e] = 1.0 - (x * x + y * y) * 2.0
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=CACHE, error_model="numpy")
 def record(
     t: int,
     qpos: F64,
@@ -289,7 +245,7 @@ def record(
                 rm[e, t, :] = rm[e, src, :]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=CACHE, error_model="numpy")
 def actuate(
     ctrl: F64, deltas: F64, lo: F64, hi: F64, unstable: Flags, any_unstable: bool
 ) -> None:
@@ -370,7 +326,7 @@ class SwitchAct(NamedTuple):
     hi: np.ndarray
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=CACHE, error_model="numpy")
 def post_step(
     t: int, check: bool, sub: F64, ids: Index, stopped: bool, r: Rollout
 ) -> int:
@@ -392,7 +348,7 @@ def post_step(
     return 0
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=CACHE, error_model="numpy")
 def step_mlp(
     t: int,
     check: bool,
@@ -414,7 +370,7 @@ def step_mlp(
     return count
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=CACHE, error_model="numpy")
 def step_switch(
     t: int,
     check: bool,

@@ -1,5 +1,5 @@
 """Where MuJoCo keeps the few ``mjData``/``mjModel`` fields that compiled code
-reads through raw pointers (:mod:`locustjump.sim.engine.incallback`): offsets computed
+reads through raw pointers (:mod:`locustjump.sim.engine.callback`): offsets computed
 from MuJoCo's own struct descriptions (``mujoco.introspect``) and checked
 against a live model and data."""
 
