@@ -379,6 +379,21 @@ def test_the_report_shows_the_repertoire(qd_run, tmp_path):
     assert "the repertoire" in text and "QD score" in text
 
 
+def test_the_report_of_a_shipped_repertoire_draws_its_archive(qd_run, tmp_path):
+    """A shipped run keeps archive.npz, not archive.png: the page draws it."""
+    import shutil
+
+    out, _ = qd_run
+    shipped = tmp_path / "shipped"
+    shutil.copytree(out, shipped)
+    (shipped / "archive.png").unlink()
+    page = tmp_path / "r.html"
+    r = run_cli("report", str(shipped), "--out", str(page))
+    assert r.returncode == 0, r.stderr
+    assert "the repertoire: each cell" in page.read_text()
+    assert not (shipped / "archive.png").exists()  # nothing written into the run
+
+
 def test_the_rule_based_kick_descriptors_use_the_models_scale():
     """Descriptors are in body lengths: doubling the creature's scale leaves
     a trajectory scaled with it where it was."""

@@ -16,15 +16,16 @@ from locustjump.sim.engine.backends import Backend
 from locustjump.tasks import ComposedRepertoire, behaviour_class
 
 
-def archive_figure(out: Path) -> Path | None:
-    """``DIR/archive.png`` from ``DIR/archive.npz``: the elites' fitness over
-    the descriptor grid (None: the run keeps no archive, or none yet)."""
+def archive_figure(out: Path, into: Path | None = None) -> Path | None:
+    """``DIR/archive.png`` (or ``into/archive.png``) from ``DIR/archive.npz``:
+    the elites' fitness over the descriptor grid (None: the run keeps no
+    archive, or none yet)."""
     cfg = rundir.load_config(out / rundir.CONFIG)
     if not rundir.has_archive(cfg) or not (out / rundir.ARCHIVE).exists():
         return None
     beh = rundir.behaviour_of(cfg, out)
     archive = rundir.read_archive(out, cfg, beh.controller.num_params)
-    path = out / rundir.ARCHIVE_PNG
+    path = (out if into is None else into) / rundir.ARCHIVE_PNG
     units = {d.name: d.unit for d in behaviour_class(cfg.behaviour).descriptors}
     title = f"{cfg.behaviour}, {cfg.optimizer.kind} (seed {cfg.seed})"
     archive_heatmap(path, archive, units=units, title=title)

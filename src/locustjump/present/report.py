@@ -24,6 +24,7 @@ from markdown_it.token import Token
 from locustjump import rundir
 from locustjump.errors import UserError
 from locustjump.present.evaluate import HELD_OUT_SEEDS, evaluate_run, evaluate_terrains
+from locustjump.present.repertoire import archive_figure
 from locustjump.present.results import held_out_markdown
 from locustjump.version import __version__
 
@@ -219,8 +220,12 @@ def _run_section(
     fit = d / rundir.FITNESS_PNG
     if fit.is_file():
         parts.append(_figure(fit, "best and mean fitness per generation"))
-    archive = d / rundir.ARCHIVE_PNG
-    if archive.is_file():
+    archive: Path | None = d / rundir.ARCHIVE_PNG
+    if eval_dir is not None and not (d / rundir.ARCHIVE_PNG).is_file():
+        # a shipped run keeps its archive, not the figure: drawn for the page
+        (eval_dir / "archive").mkdir(exist_ok=True)
+        archive = archive_figure(d, into=eval_dir / "archive")
+    if archive is not None and archive.is_file():
         parts.append(
             _figure(
                 archive,
