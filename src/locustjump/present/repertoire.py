@@ -80,7 +80,7 @@ def composition_figure(
         chosen,
         res["qpos"][0, :, 2],
         res["memory"][0, 1:, 0].astype(int),
-        beh.memory_labels,
+        tuple(beh.memory_labels or ()),  # a repertoire's switcher names its own
         units=units,
         title=(
             f"its best switcher (Eq. 4 = {float(fit[0]):.0f}) choosing among "
