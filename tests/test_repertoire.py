@@ -68,6 +68,30 @@ def sources(tmp_path_factory):
     return root
 
 
+def two_elites(root, params, rng):
+    """The frozen genomes of a composition over the 2 best elites of the
+    repertoire ``root/qd``, with random get-up and return-legs networks."""
+    kick = FrozenGenomes.from_runs(
+        ("kick",), {"kick": root / "qd"}, params, 144, {"kick": 2}
+    )
+    return FrozenGenomes(
+        ComposedRepertoire.frozen_names(RepertoireOptions(elites=2)),
+        np.concatenate([kick.genomes, NET.random_genomes(rng, 2)]),
+        (*kick.sources, "g", "r"),
+        (*kick.hashes, "0", "0"),
+    )
+
+
+def composition(generations):
+    """A small composition over 2 elites, trained by a population of 3."""
+    return TrainConfig(
+        behaviour="composed-repertoire",
+        generations=generations,
+        optimizer=RCGAParams(population=3, elite=1),
+        options=RepertoireOptions(elites=2, switch_every=50),
+    )
+
+
 def test_the_frozen_genomes_are_the_archives_best_elites_in_order(sources, params):
     root = sources
     cfg = rundir.load_config(root / "qd" / rundir.CONFIG)
@@ -94,21 +118,8 @@ def test_a_repertoire_composition_trains_and_resumes_bit_for_bit(
     sources, params, tmp_path, rng
 ):
     root = sources
-    kick = FrozenGenomes.from_runs(
-        ("kick",), {"kick": root / "qd"}, params, 144, {"kick": 2}
-    )
-    frozen = FrozenGenomes(
-        ComposedRepertoire.frozen_names(RepertoireOptions(elites=2)),
-        np.concatenate([kick.genomes, NET.random_genomes(rng, 2)]),
-        (*kick.sources, "g", "r"),
-        (*kick.hashes, "0", "0"),
-    )
-    cfg = TrainConfig(
-        behaviour="composed-repertoire",
-        generations=2,
-        optimizer=RCGAParams(population=3, elite=1),
-        options=RepertoireOptions(elites=2, switch_every=50),
-    )
+    frozen = two_elites(root, params, rng)
+    cfg = composition(generations=2)
     train(cfg, tmp_path / "a", progress=False, frozen=frozen, stop_after=1)
     train(cfg, tmp_path / "a", progress=False, resume=True)
     train(cfg, tmp_path / "b", progress=False, frozen=frozen)
@@ -124,21 +135,8 @@ def test_the_repertoire_figure_marks_the_chosen_elites_and_checks_its_runs(
     from pathlib import Path
 
     root = sources
-    kick = FrozenGenomes.from_runs(
-        ("kick",), {"kick": root / "qd"}, params, 144, {"kick": 2}
-    )
-    frozen = FrozenGenomes(
-        ComposedRepertoire.frozen_names(RepertoireOptions(elites=2)),
-        np.concatenate([kick.genomes, NET.random_genomes(rng, 2)]),
-        (*kick.sources, "g", "r"),
-        (*kick.hashes, "0", "0"),
-    )
-    cfg = TrainConfig(
-        behaviour="composed-repertoire",
-        generations=1,
-        optimizer=RCGAParams(population=3, elite=1),
-        options=RepertoireOptions(elites=2, switch_every=50),
-    )
+    frozen = two_elites(root, params, rng)
+    cfg = composition(generations=1)
     train(cfg, tmp_path / "c", progress=False, frozen=frozen)
     import importlib.util
 
@@ -182,12 +180,7 @@ def test_the_repertoire_figure_refuses_a_composition_of_other_elites(
         ("a", "b", "g", "r"),
         ("0", "0", "0", "0"),
     )
-    cfg = TrainConfig(
-        behaviour="composed-repertoire",
-        generations=1,
-        optimizer=RCGAParams(population=3, elite=1),
-        options=RepertoireOptions(elites=2, switch_every=50),
-    )
+    cfg = composition(generations=1)
     train(cfg, tmp_path / "c", progress=False, frozen=frozen)
     message = "its 2 kick networks are not the 2 best elites of"
     with pytest.raises(UserError, match=message):
