@@ -361,6 +361,8 @@ def test_replay_resimulates_every_stage(reproduction, tmp_path, capsys):
         replay(tmp_path, tmp_path / "x")
 
 
+@pytest.mark.slow  # a minute on 2 cores (the default run renders two stages:
+# test_reproduce_announces_every_phase)
 def test_reproduce_renders_a_video_per_stage(reproduction, tmp_path):
     pytest.importorskip("imageio_ffmpeg", reason="extra locustjump[video] missing")
     from locustjump.runs.reproduce import STAGES, render_videos
@@ -397,9 +399,11 @@ def test_reproduce_announces_every_phase(reproduction, tmp_path, capsys):
         shutil.rmtree(d / stage)
     logs.clear()
     capsys.readouterr()
-    render_videos(d, fps=0.5, log=logs.append, progress=True)
+    made = render_videos(d, fps=0.5, log=logs.append, progress=True)
     if any(s.startswith("videos skipped") for s in logs):
         pytest.skip(logs[-1])
+    assert made == [d / "kick" / rundir.VIDEO, d / "composed" / rundir.VIDEO]
+    assert all(p.stat().st_size > 1000 for p in made)
     assert logs == [
         "[kick] rendering video 1 of 2 (re-simulating its best genome first)",
         f"[kick] wrote {d / 'kick' / rundir.VIDEO}",
@@ -410,6 +414,7 @@ def test_reproduce_announces_every_phase(reproduction, tmp_path, capsys):
     assert "video 1 of 2, kick: 100%" in bars and "video 2 of 2, composed" in bars
     # elapsed<left: tqdm's estimate of the time left
     assert re.search(r"\[\d\d:\d\d<\d\d:\d\d, +[\d.]+(frame/s|s/frame)\]", bars)
+    assert render_videos(d, fps=0.5, log=logs.append) == []  # kept, not re-made
 
 
 def test_reproduce_cli_bad_input(tmp_path, capsys):

@@ -282,7 +282,7 @@ def _replay_penetration(p: lm.LocustParams, scene: Debris, ctrl: np.ndarray, sta
     return pen, d
 
 
-@pytest.mark.parametrize("substeps", [3, 12])
+@pytest.mark.parametrize("substeps", [3, pytest.param(12, marks=pytest.mark.slow)])
 def test_gates_hold_on_debris(substeps):
     """Rule-based and random controllers on rubble, at the model's 3 substeps and
     at 12: no blow-up, finite states, contacts shallower than 5 % of a body
