@@ -119,6 +119,20 @@ def test_the_table(finished):
     assert (study.out / "learning.png").stat().st_size > 1000
 
 
+def test_a_table_of_one_seed_compares_nothing_and_says_why(finished, tmp_path):
+    path, _, _ = finished
+    one = tmp_path / "one.toml"  # the same runs, its table elsewhere
+    one.write_text(
+        path.read_text().replace("seeds =", f'out = "{tmp_path}"\nseeds =', 1)
+    )
+    t = run_cli("study", str(one), "--table", "--seeds", "2", "--quiet")
+    assert t.returncode == 0, t.stderr
+    labels = "; ".join(a.label for a in load_study(path).arms.values())
+    assert f"No comparison: {labels} each have fewer than 2 runs." in t.stdout
+    pairs = json.loads((tmp_path / TABLE_JSON).read_text())["pairs"]
+    assert all(rows == [] for rows in pairs.values())
+
+
 @pytest.mark.parametrize(
     "change, message",
     [

@@ -252,7 +252,8 @@ def make_table(study: Study, rows: list[dict[str, Any]]) -> tuple[str, dict]:
             )
         few = [a.label for a in arms if len(samples[a.name]) < 2]
         if few:
-            md += ["", f"No comparison: {', '.join(few)} has fewer than 2 runs."]
+            verb = "has" if len(few) == 1 else "each have"
+            md += ["", f"No comparison: {'; '.join(few)} {verb} fewer than 2 runs."]
         comps = [] if few else _compared(study, samples)
         out["pairs"][s] = [c.row() for c in comps]
         if comps:
