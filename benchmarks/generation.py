@@ -10,10 +10,14 @@ evaluated, records their servo targets, and right after that generation
 times an open-loop ``mujoco.rollout`` replay of the same episodes (same
 start states, substeps, threads): the physics-only time, measured under the
 same load of the machine as its generation. Prints medians; issue
-target: ratio <= 1.15.
+target: ratio <= 1.15. With ``--optimizer`` another optimizer trains (a
+quality-diversity one is told the episodes' behaviour descriptors too, as
+in training): its own cost (asking, telling, an archive, a checkpoint that
+grows with every generation told) is in the generation's wall time.
 
     python benchmarks/generation.py [--behaviour kick] [--threads 2]
     python benchmarks/generation.py --behaviour composed --simple-from DIR
+    python benchmarks/generation.py --optimizer map-elites
 """
 
 from __future__ import annotations
@@ -31,7 +35,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).parent))
 from _physics import physics_only_seconds  # noqa: E402
 from locustjump import rundir  # noqa: E402
-from locustjump.evo import RCGAParams, make_optimizer  # noqa: E402
+from locustjump.evo import make_optimizer, optimizer_kinds, params_class  # noqa: E402
 from locustjump.rundir.config import TrainConfig  # noqa: E402
 from locustjump.runs.trainer import train  # noqa: E402
 from locustjump.sim.controller import MLP  # noqa: E402
@@ -111,6 +115,7 @@ def measure(
     simple: rundir.FrozenGenomes | None = None,
     engine: str | None = None,
     terrains: Terrains | None = None,
+    optimizer: str = "rcga",
 ) -> GenerationTimes:
     """Train ``warmup + generations`` generations, then time physics-only
     replays of the measured generations' episodes. With ``terrains`` the run
@@ -119,7 +124,7 @@ def measure(
     cfg = TrainConfig(
         behaviour=behaviour,
         generations=warmup + generations,
-        optimizer=RCGAParams(population=population),
+        optimizer=params_class(optimizer)(population=population),
     )
     if terrains is not None:
         cfg = cfg.replace(scene=terrains)
@@ -155,7 +160,8 @@ def measure(
             n_new = len(genomes)
             fit, res = beh.evaluate(genomes, p, record=(*beh.record, "ctrl"),
                                     backend=backend, engine=cfg.engine)  # fmt: skip
-            ga.tell(fit)
+            names = ga.descriptor_names
+            ga.tell(fit, beh.describe(res, p, names) if names else None)
             phys.append(replay_seconds(beh, p, res["ctrl"], n_new, threads, repeats))
     return GenerationTimes(
         behaviour, wall, phys, steps, n_new, len(beh.start_states(p)), beh.n_steps
@@ -180,6 +186,7 @@ def replay_seconds(beh, p, ctrl: np.ndarray, n: int, threads: int, repeats: int)
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--behaviour", choices=list(BEHAVIOURS), default="kick")
+    ap.add_argument("--optimizer", choices=optimizer_kinds(), default="rcga")
     ap.add_argument("--population", type=int, default=50)
     ap.add_argument("--generations", type=int, default=10, help="measured")
     ap.add_argument("--warmup", type=int, default=3)
@@ -203,10 +210,12 @@ def main() -> None:
         simple=simple_genomes(args.simple_from)
         if args.behaviour == "composed"
         else None,
+        optimizer=args.optimizer,
     )
     ratio = t.ratio
     print(
-        f"{args.behaviour}: population {args.population}, {t.new_genomes} new "
+        f"{args.behaviour}, {args.optimizer}: population {args.population}, "
+        f"{t.new_genomes} new "
         f"genomes x {t.start_states} start states x {t.n_steps} steps per "
         f"generation, {args.threads} threads, mujoco {mujoco.__version__}"
     )
