@@ -153,7 +153,8 @@ def test_descriptors_go_with_the_tell_and_only_to_an_optimizer_that_needs_them()
 def test_a_qd_optimizer_needs_its_grid_and_cma_me_two_genomes_an_emitter():
     with pytest.raises(ValueError, match="needs its descriptors"):
         CMAME(5, CMAMEParams(), 0)
-    with pytest.raises(ValueError, match="population must be >= 2 per emitter"):
+    message = "^population must be >= 2 per emitter \\(5 emitters: >= 10\\), got 9$"
+    with pytest.raises(ValueError, match=message):
         CMAMEParams(population=9, emitters=5)
     with pytest.raises(ValueError, match="at most 10,000"):
         MapElitesParams(cells=(200, 200))

@@ -86,7 +86,8 @@ class QDParams:
         if self.population < self.emitters * self.min_batch:
             raise ValueError(
                 f"population must be >= {self.min_batch} per emitter "
-                f"({self.emitters}), got {self.population}"
+                f"({self.emitters} emitters: >= "
+                f"{self.emitters * self.min_batch}), got {self.population}"
             )
         if len(set(self.descriptors)) != len(self.descriptors):
             raise ValueError(f"descriptors repeat a name: {list(self.descriptors)}")
