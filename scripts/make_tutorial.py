@@ -96,13 +96,13 @@ figures; `playback_of` + `frames` render the episode offscreen.
 `locustjump render RUN --out kick.mp4` makes the video, `locustjump view RUN`
 opens MuJoCo's viewer."""),
     ("code", """\
-ev = lj.evaluate_run(kick.out)
-print(f"re-simulated fitness {ev.fitness:.6f}, recorded {ev.recorded_fitness:.6f}, "
-      f"identical: {ev.matches}")
-
 from itertools import islice
 
 from locustjump.present.render import frames, playback_of
+
+ev = lj.evaluate_run(kick.out)
+print(f"re-simulated fitness {ev.fitness:.6f}, recorded {ev.recorded_fitness:.6f}, "
+      f"identical: {ev.matches}")
 
 pb = playback_of(kick.out)
 fps = 20
@@ -146,7 +146,6 @@ The return of an episode is the behaviour's fitness, so any RL or ES library
 can be compared with the paper's RCGA on the same number."""),
     ("code", """\
 import gymnasium as gym
-import numpy as np
 
 import locustjump.envs  # noqa: F401  (registers the ids)
 

@@ -2,6 +2,7 @@
 
 import contextlib
 import io
+import os
 import time
 from pathlib import Path
 from types import SimpleNamespace
@@ -66,3 +67,29 @@ def run_cli(*argv: str) -> SimpleNamespace:
     return SimpleNamespace(
         returncode=code, stdout=out.getvalue(), stderr=err.getvalue()
     )
+
+
+def _content(p: Path) -> bytes | str | None:
+    if p.is_symlink():
+        return os.readlink(p)
+    return p.read_bytes() if p.is_file() else None  # a FIFO is never read
+
+
+def tree_snapshot(d: Path) -> dict[str, bytes | str | None]:
+    """Everything under ``d``: each file's bytes, each link's target, None
+    for a directory or anything else (never opened)."""
+    return {str(p.relative_to(d)): _content(p) for p in d.rglob("*")}
+
+
+def refused(argv: list[str], capsys, needle: str, d: Path) -> str:
+    """``argv`` exits 2 with one line holding ``needle``; ``d`` unchanged.
+    Returns that line."""
+    from locustjump.cli import main
+
+    before = tree_snapshot(d)
+    code = main(argv)
+    err = capsys.readouterr().err
+    assert code == 2, err
+    assert needle in err and len(err.strip().splitlines()) == 1, err
+    assert tree_snapshot(d) == before
+    return err

@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from helpers import refused
 from locustjump import rundir
 from locustjump.cli import main
 
@@ -26,23 +27,6 @@ def small_run(tmp_path_factory) -> Path:
     out = tmp_path_factory.mktemp("small") / "run"
     assert main(_argv(out)) == 0
     return out
-
-
-def _snapshot(d: Path) -> dict[str, bytes | None]:
-    return {
-        str(p.relative_to(d)): p.read_bytes() if p.is_file() else None
-        for p in d.rglob("*")
-    }
-
-
-def _refused(argv: list[str], capsys, needle: str, d: Path) -> None:
-    """``argv`` exits 2 with one line holding ``needle``; ``d`` unchanged."""
-    before = _snapshot(d)
-    code = main(argv)
-    err = capsys.readouterr().err
-    assert code == 2, err
-    assert needle in err and len(err.strip().splitlines()) == 1, err
-    assert _snapshot(d) == before
 
 
 def _rewrite_npz(path: Path, **changes) -> None:
@@ -80,7 +64,7 @@ def test_a_tampered_checkpoint_is_refused_before_any_write(
     shutil.copytree(small_run, out)
     with np.load(out / rundir.CHECKPOINT) as z:
         _rewrite_npz(out / rundir.CHECKPOINT, **{key: change(z[key])})
-    _refused(_resume(out), capsys, needle, out)
+    refused(_resume(out), capsys, needle, out)
 
 
 BEST = [
@@ -104,7 +88,7 @@ def test_a_tampered_best_genome_is_refused_before_any_write(
     with np.load(out / rundir.BEST) as z:
         _rewrite_npz(out / rundir.BEST, **{key: change(z[key])})
     for argv in (["evaluate", str(out), "--json"], ["report", str(out)]):
-        _refused(argv, capsys, needle, out)
+        refused(argv, capsys, needle, out)
 
 
 def _npz_with(path: Path, name: str, header: dict, data: bytes) -> None:
@@ -130,16 +114,16 @@ def test_npz_sizes_are_bounded_before_reading(small_run, tmp_path, capsys):
     # a header that declares 10**12 elements
     _npz_with(best, "genome", {"descr": "<f8", "fortran_order": False,
                                "shape": (10**12,)}, b"\0" * 64)  # fmt: skip
-    _refused(["evaluate", str(out)], capsys, f"{best}: genome.npy declares", out)
+    refused(["evaluate", str(out)], capsys, f"{best}: genome.npy declares", out)
     # 64 MB of zeros (compressed to 64 KB): more than a genome file holds
     _npz_with(best, "genome", {"descr": "<f8", "fortran_order": False,
                                "shape": (8 << 20,)}, bytes(64 << 20))  # fmt: skip
     assert best.stat().st_size < 1 << 20
-    _refused(["evaluate", str(out)], capsys, "more than such a file holds", out)
+    refused(["evaluate", str(out)], capsys, "more than such a file holds", out)
     # a directory where best.npz should be
     best.unlink()
     best.mkdir()
-    _refused(["evaluate", str(out)], capsys, "is a directory, not a regular file", out)
+    refused(["evaluate", str(out)], capsys, "is a directory, not a regular file", out)
 
 
 METRICS = [
@@ -156,7 +140,7 @@ def test_a_malformed_metrics_row_is_named(small_run, tmp_path, capsys, line, nee
     with open(out / rundir.METRICS, "a") as f:
         f.write(line)
     for argv in (["report", str(out)], ["compare", str(out)], _resume(out)):
-        _refused(argv, capsys, f"{rundir.METRICS}: {needle}", out)
+        refused(argv, capsys, f"{rundir.METRICS}: {needle}", out)
 
 
 def test_metrics_out_of_order_or_not_the_checkpoints(small_run, tmp_path, capsys):
@@ -165,26 +149,26 @@ def test_metrics_out_of_order_or_not_the_checkpoints(small_run, tmp_path, capsys
     m = out / rundir.METRICS
     header, one, two = m.read_text().splitlines(keepends=True)
     m.write_text(header + two + one)
-    _refused(_resume(out), capsys, "generation 2, expected 1", out)
+    refused(_resume(out), capsys, "generation 2, expected 1", out)
     cells = two.split(",")
     cells[1] = "123.0"  # another best fitness than the checkpoint's row
     m.write_text(header + one + ",".join(cells))
-    _refused(_resume(out), capsys, "not the checkpoint's", out)
+    refused(_resume(out), capsys, "not the checkpoint's", out)
 
 
 def test_config_files_are_bounded_before_parsing(tmp_path, capsys, monkeypatch):
     monkeypatch.chdir(tmp_path)
     deep = tmp_path / "deep.toml"
     deep.write_text("a = " + "[" * 1000 + "]" * 1000 + "\n")
-    _refused(["train", "kick", "--config", "deep.toml", "--out", "r"], capsys,
+    refused(["train", "kick", "--config", "deep.toml", "--out", "r"], capsys,
              "deep.toml: nested more than 32 deep", tmp_path)  # fmt: skip
-    _refused(["train", "kick", "--config", "/dev/zero", "--out", "r"], capsys,
+    refused(["train", "kick", "--config", "/dev/zero", "--out", "r"], capsys,
              "--config: /dev/zero: is a character device", tmp_path)  # fmt: skip
     # brackets inside strings and comments do not count
     assert rundir.reads.nesting('a = "[[[[" # ]]]]\nb = [[1], {c = 2}]\n') == 2
     # a seed beyond TOML's 64-bit integers is refused, not written
     (tmp_path / "s.toml").write_text(f"seed = {2**64}\n")
-    _refused(["train", "kick", "--config", "s.toml", "--out", "r"], capsys,
+    refused(["train", "kick", "--config", "s.toml", "--out", "r"], capsys,
              "seed must be a 64-bit integer", tmp_path)  # fmt: skip
     with pytest.raises(SystemExit):
         main(["train", "kick", "--seed", str(2**63), "--out", "r"])
@@ -197,9 +181,9 @@ def test_output_paths_that_cannot_be_used_are_named(tmp_path, capsys, monkeypatc
     for argv in (["train", "kick", "--quiet", "--out", "loop"],
                  ["rules", "--out", "loop"],
                  ["model", "--out", "loop/m.xml"]):  # fmt: skip
-        _refused(argv, capsys, "Too many levels of symbolic links", tmp_path)
+        refused(argv, capsys, "Too many levels of symbolic links", tmp_path)
     os.symlink("nowhere", tmp_path / "broken")
-    _refused(["rules", "--out", "broken"], capsys, "a broken symbolic link", tmp_path)
+    refused(["rules", "--out", "broken"], capsys, "a broken symbolic link", tmp_path)
 
 
 def test_a_run_stopped_before_its_config_starts_again(tmp_path, capsys, small_run):
@@ -209,11 +193,11 @@ def test_a_run_stopped_before_its_config_starts_again(tmp_path, capsys, small_ru
     out.mkdir()
     (out / ".config.tmp.toml").write_text("half")
     shutil.copy(small_run / rundir.BEST, out / rundir.FROZEN)  # any bytes
-    _refused([*_argv(out), "--resume"], capsys, "rerun without --resume", out)
+    refused([*_argv(out), "--resume"], capsys, "rerun without --resume", out)
     assert main(_argv(out)) == 0
     assert rundir.generations_done(out) == 2
     assert not (out / ".config.tmp.toml").exists()
     assert not (out / rundir.FROZEN).exists()  # a kick run builds on none
     (tmp_path / "other").mkdir()
     (tmp_path / "other" / "mine.txt").write_text("x")  # anything else: refused
-    _refused(_argv(tmp_path / "other"), capsys, "is not empty", tmp_path / "other")
+    refused(_argv(tmp_path / "other"), capsys, "is not empty", tmp_path / "other")

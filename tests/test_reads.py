@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from helpers import assert_same_run
+from helpers import assert_same_run, refused
 from locustjump import rundir
 from locustjump.cli import main
 from locustjump.cli.dispatch import ERROR_LOG
@@ -67,27 +67,6 @@ def _never_blocks():
     signal.signal(signal.SIGALRM, previous)
 
 
-def _content(p: Path) -> bytes | str | None:
-    if p.is_symlink():
-        return os.readlink(p)
-    return p.read_bytes() if p.is_file() else None  # a FIFO is never read
-
-
-def _snapshot(d: Path) -> dict[str, bytes | str | None]:
-    return {str(p.relative_to(d)): _content(p) for p in d.rglob("*")}
-
-
-def _refused(argv: list[str], capsys, needle: str, d: Path) -> str:
-    """``argv`` exits 2 with one line holding ``needle``; ``d`` unchanged."""
-    before = _snapshot(d)
-    code = main(argv)
-    err = capsys.readouterr().err
-    assert code == 2, err
-    assert needle in err and len(err.strip().splitlines()) == 1, err
-    assert _snapshot(d) == before
-    return err
-
-
 # -- 1. regular files only -----------------------------------------------------
 
 KINDS = {
@@ -122,7 +101,7 @@ def test_a_runs_file_that_is_not_a_regular_file_is_refused(
     make, needle = KINDS[kind]
     (run / name).unlink()
     make(run / name)
-    _refused(_command(command, run), capsys, f"{run / name}: {needle}", run)
+    refused(_command(command, run), capsys, f"{run / name}: {needle}", run)
 
 
 @pytest.mark.parametrize("kind", KINDS)
@@ -137,11 +116,11 @@ def test_files_given_or_found_that_are_not_regular_files_are_refused(
         ["train", "kick", "--scene", "f.toml", "--out", "r"],
         ["study", "f.toml", "--status"],
     ):
-        _refused(argv, capsys, f"f.toml: {needle}", tmp_path)
+        refused(argv, capsys, f"f.toml: {needle}", tmp_path)
     rep = tmp_path / "rep"
     rep.mkdir()
     make(rep / rundir.MARKER)
-    _refused(["reproduce", "--budget", "quick", "--out", str(rep), "--no-videos"],
+    refused(["reproduce", "--budget", "quick", "--out", str(rep), "--no-videos"],
              capsys, f"{rep / rundir.MARKER}: {needle}", tmp_path)  # fmt: skip
 
 
@@ -177,13 +156,13 @@ def _endless() -> Path:
 def test_sizes_are_bounded_by_the_bytes_read(run, tmp_path, capsys, monkeypatch):
     endless = _endless()
     assert endless.stat().st_size == 0
-    _refused(["train", "kick", "--config", str(endless), "--out", str(tmp_path / "r")],
+    refused(["train", "kick", "--config", str(endless), "--out", str(tmp_path / "r")],
              capsys, f"{endless}: larger than 1 MiB", tmp_path)  # fmt: skip
     monkeypatch.setattr(rundir.metrics, "MAX_METRICS_BYTES", 1 << 20)
     (run / rundir.METRICS).unlink()
     (run / rundir.METRICS).symlink_to(endless)
     for command in READERS[rundir.METRICS]:
-        _refused(_command(command, run), capsys,
+        refused(_command(command, run), capsys,
                  f"{run / rundir.METRICS}: larger than 1 MiB", run)  # fmt: skip
 
 
@@ -215,7 +194,7 @@ def _peak_of(argv: list[str], capsys, needle: str, d: Path) -> float:
     """``_refused``, and the peak of memory NumPy and Python took meanwhile (MB)."""
     tracemalloc.start()
     try:
-        _refused(argv, capsys, needle, d)
+        refused(argv, capsys, needle, d)
         return tracemalloc.get_traced_memory()[1] / 1e6
     finally:
         tracemalloc.stop()
@@ -234,7 +213,7 @@ def test_a_checkpoint_bomb_is_refused_before_it_inflates(run, capsys):
     # optimizer's state or not
     for name in ("opt_extra", "extra"):
         _rewrite(ckpt, **{name: _bomb((40_000, p))})
-        _refused(_resume(run), capsys, f"holds '{name}.npy', which such a file", run)
+        refused(_resume(run), capsys, f"holds '{name}.npy', which such a file", run)
         _rewrite(ckpt, drop=name)
 
 
@@ -242,19 +221,19 @@ def test_npz_members_are_only_those_written(run, capsys):
     best = run / rundir.BEST
     original = best.read_bytes()
     _rewrite(best, extra=np.zeros(3))
-    _refused(["evaluate", str(run)], capsys, "holds 'extra.npy', which such", run)
+    refused(["evaluate", str(run)], capsys, "holds 'extra.npy', which such", run)
     with zipfile.ZipFile(best, "w") as zf:
         for i in range(300):
             zf.writestr(f"a{i}.npy", b"")
-    _refused(["evaluate", str(run)], capsys, "holds 300 arrays", run)
+    refused(["evaluate", str(run)], capsys, "holds 300 arrays", run)
     for content in (b"genome = 1\n", pickle.dumps({"genome": [1.0]})):
         best.write_bytes(content)
-        _refused(["evaluate", str(run)], capsys,
+        refused(["evaluate", str(run)], capsys,
                  f"{best}: not an .npz file (File is not a zip file)", run)  # fmt: skip
     best.write_bytes(original)
     # JSON nested too deep where the checkpoint keeps the generator's state
     _rewrite(run / rundir.CHECKPOINT, opt_rng_state=np.array("[" * 5000))
-    _refused(_resume(run), capsys, "malformed checkpoint", run)
+    refused(_resume(run), capsys, "malformed checkpoint", run)
 
 
 # -- 3. nesting bounded however it is spelled ---------------------------------------
@@ -273,11 +252,11 @@ def test_nesting_is_bounded_however_it_is_spelled(
     (tmp_path / "scene.toml").write_text("[scene]\n" + text)
     for argv in (["train", "kick", "--config", "deep.toml", "--out", "r"],
                  ["train", "kick", "--scene", "scene.toml", "--out", "r"]):  # fmt: skip
-        _refused(argv, capsys, "nested more than 32 deep", tmp_path)
+        refused(argv, capsys, "nested more than 32 deep", tmp_path)
     config = run / rundir.CONFIG
     config.write_text(config.read_text() + text)  # into its last table, [scene]
     for command in READERS[rundir.CONFIG]:
-        _refused(_command(command, run), capsys,
+        refused(_command(command, run), capsys,
                  f"{config}: nested more than 32 deep", run)  # fmt: skip
     assert not list(run.rglob(ERROR_LOG)) and not (tmp_path / "r").exists()
     # 32 levels are read (and refused for what they hold, not how deep)
@@ -311,12 +290,12 @@ BEST_DAMAGE = {
 @pytest.mark.parametrize("damage", BEST_DAMAGE)
 def test_resume_checks_the_best_genome_it_keeps(run, tmp_path, capsys, damage):
     BEST_DAMAGE[damage](run / rundir.BEST, tmp_path)
-    _refused(_resume(run), capsys, str(run / rundir.BEST), run)
+    refused(_resume(run), capsys, str(run / rundir.BEST), run)
 
 
 def test_resume_without_its_checkpoint_does_not_restart(run, capsys):
     (run / rundir.CHECKPOINT).unlink()
-    _refused(_resume(run), capsys,
+    refused(_resume(run), capsys,
              f"{run / rundir.METRICS}: holds 2 generations but checkpoint.npz is "
              "missing", run)  # fmt: skip
 
@@ -358,5 +337,5 @@ def test_a_marker_no_reproduction_wrote_is_refused(
     rep.mkdir()
     (rep / marker).write_text(text)
     seeds = ["--seeds", "0,1"] if marker == rundir.SEEDS_MARKER else []
-    _refused(["reproduce", "--budget", "quick", "--out", str(rep), *seeds],
+    refused(["reproduce", "--budget", "quick", "--out", str(rep), *seeds],
              capsys, f"{rep / marker}: {needle}", tmp_path)  # fmt: skip
