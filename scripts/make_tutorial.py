@@ -16,6 +16,8 @@ import nbformat
 
 NOTEBOOK = Path(__file__).resolve().parent.parent / "docs" / "tutorial.ipynb"
 
+# one tuple a cell, the cell's text flush left as it will read
+# fmt: off
 CELLS: list[tuple[str, str]] = [
     ("md", """\
 # Tutorial: evolve a kick, watch it, compose it
@@ -169,12 +171,15 @@ print(f"a random policy's kick return: {ret:.4f}; our evolved kick: "
   seeds with a study file: `locustjump study studies/example.toml --dry-run`.
 - Which of the paper's claims hold, and why: the science pages."""),
 ]
+# fmt: on
 
 
 def notebook() -> nbformat.NotebookNode:
     nb = nbformat.v4.new_notebook()
     nb.metadata["kernelspec"] = {
-        "display_name": "Python 3", "language": "python", "name": "python3"
+        "display_name": "Python 3",
+        "language": "python",
+        "name": "python3",
     }
     nb.metadata["language_info"] = {"name": "python"}
     make = {"md": nbformat.v4.new_markdown_cell, "code": nbformat.v4.new_code_cell}

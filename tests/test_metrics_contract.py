@@ -144,10 +144,10 @@ def test_counts_of_zero_and_optimizer_columns_that_are_not_finite_are_fine(tmp_p
 
 def test_a_file_that_is_not_a_metrics_file(tmp_path):
     with pytest.raises(
-        UserError, match=exactly(
-            f"{tmp_path}: is a directory, not a regular "
-            f"file; expected a metrics file"
-        )
+        UserError,
+        match=exactly(
+            f"{tmp_path}: is a directory, not a regular file; expected a metrics file"
+        ),
     ):
         metrics.read_metrics(tmp_path)
     p = tmp_path / "b.csv"
@@ -203,10 +203,8 @@ def test_rows_ahead_of_the_checkpoint_are_refused(tmp_path):
     with pytest.raises(
         UserError,
         match=exactly(
-
-                f"{p}: holds 3 generations but checkpoint.npz holds only 2 "
-                f"(nothing changed)"
-
+            f"{p}: holds 3 generations but checkpoint.npz holds only 2 "
+            f"(nothing changed)"
         ),
     ):
         metrics.truncate_metrics(p, 2, row(2))

@@ -89,15 +89,13 @@ def test_a_stop_reason_s_value_is_a_plain_json_scalar(value, expected):
 
 
 def test_the_base_checks_its_arguments_in_one_line():
-    with pytest.raises(TypeError, match=exactly(
-        "seed must be an integer in "
-        "[0, 2**63-1], got 1.5"
-    )):
+    with pytest.raises(
+        TypeError, match=exactly("seed must be an integer in [0, 2**63-1], got 1.5")
+    ):
         RandomSearch(3, RandomSearchParams(population=2), 1.5)
-    with pytest.raises(ValueError, match=exactly(
-        "num_params must be an "
-        "integer >= 1, got 0"
-    )):
+    with pytest.raises(
+        ValueError, match=exactly("num_params must be an integer >= 1, got 0")
+    ):
         RandomSearch(0, RandomSearchParams(population=2), 0)
     opt = RandomSearch(1, RandomSearchParams(population=2), np.int64(4))
     assert opt.seed == 4 and type(opt.seed) is int and opt.num_params == 1

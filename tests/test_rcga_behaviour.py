@@ -84,16 +84,16 @@ def test_the_boundaries_of_every_range_are_accepted():
 @pytest.mark.parametrize(
     "kwargs, message",
     [
-        ({"population": 1, "elite": 0}, (
-            "population must be an integer in "
-            "[2, 1000000], got 1"
-        )),
+        (
+            {"population": 1, "elite": 0},
+            ("population must be an integer in [2, 1000000], got 1"),
+        ),
         ({"elite": -1}, "elite must be an integer in [0, 999999], got -1"),
         ({"elite": 50}, "elite must be less than population (50), got 50"),
-        ({"tournament_size": 0}, (
-            "tournament_size must be an integer in [1, "
-            "1000000], got 0"
-        )),
+        (
+            {"tournament_size": 0},
+            ("tournament_size must be an integer in [1, 1000000], got 0"),
+        ),
         ({"crossover": "pmx"}, "crossover must be one of blx, sbx, undx, got 'pmx'"),
         ({"crossover_rate": -0.1}, "crossover_rate must be in [0, 1], got -0.1"),
         ({"mutation_rate": 1.5}, "mutation_rate must be in [0, 1], got 1.5"),
