@@ -38,8 +38,11 @@ demo: $(VENV)/.demo-installed
 
 test: $(VENV)/.test-installed $(VENV)/.docs-installed typecheck  # test_docs.py: the site, strict
 	$(BIN)/ruff check src tests benchmarks scripts
+	$(BIN)/ruff format --check src tests benchmarks scripts
 	$(BIN)/lint-imports --no-cache
-	$(BIN)/python -m pytest -q -rs  # -rs: say why a test was skipped
+	# -rs: say why a test was skipped; on as many workers as cores, at most 4
+	# (pytest-xdist; tests/conftest.py groups the files that share a fixture)
+	$(BIN)/python -m pytest -q -rs -n auto --maxprocesses 4 --dist loadgroup
 
 # mypy as [tool.mypy] in pyproject.toml says: strict on sim, evo and rundir
 typecheck: $(VENV)/.test-installed
