@@ -83,6 +83,7 @@ def pytest_collection_modifyitems(items):
     module fixtures are made once), and the files that use a session fixture
     of ``SHARED`` all on one worker (one reproduction, one Ray instance: a
     file whose Ray test starts Ray by itself finds it started)."""
+
     def file(item) -> str:
         return item.nodeid.split("::")[0]
 
