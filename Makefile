@@ -41,8 +41,9 @@ test: $(VENV)/.test-installed $(VENV)/.docs-installed typecheck  # test_docs.py:
 	$(BIN)/ruff format --check src tests benchmarks scripts
 	$(BIN)/lint-imports --no-cache
 	# -rs: say why a test was skipped; on as many workers as cores, at most 4
-	# (pytest-xdist; tests/conftest.py groups the files that share a fixture)
-	$(BIN)/python -m pytest -q -rs -n auto --maxprocesses 4 --dist loadgroup
+	# (pytest-xdist), each test file on one worker (its module fixtures made once;
+	# not loadgroup: xdist 3.8 under pytest 9 ignores its groups)
+	$(BIN)/python -m pytest -q -rs -n auto --maxprocesses 4 --dist loadfile
 
 # mypy as [tool.mypy] in pyproject.toml says: strict on sim, evo and rundir
 typecheck: $(VENV)/.test-installed

@@ -73,28 +73,6 @@ def local_ray():
     ray.shutdown()
 
 
-#: session fixtures made once per process: under pytest-xdist (make test runs
-#: ``-n 2 --dist loadgroup``) the test files that use them share one worker
-SHARED = ("tiny_reproduction", "local_ray")
-
-
-def pytest_collection_modifyitems(items):
-    """Group the tests for pytest-xdist: a test file runs on one worker (its
-    module fixtures are made once), and the files that use a session fixture
-    of ``SHARED`` all on one worker (one reproduction, one Ray instance: a
-    file whose Ray test starts Ray by itself finds it started)."""
-
-    def file(item) -> str:
-        return item.nodeid.split("::")[0]
-
-    shared = {
-        file(item) for item in items if any(n in item.fixturenames for n in SHARED)
-    }
-    for item in items:
-        f = file(item)
-        item.add_marker(pytest.mark.xdist_group("shared" if f in shared else f))
-
-
 @pytest.hookimpl(hookwrapper=True)
 def pytest_runtest_makereport(item, call):
     """With LOCUSTJUMP_NO_SKIP set (CI, which installs every system package
