@@ -133,6 +133,35 @@ def test_a_table_of_one_seed_compares_nothing_and_says_why(finished, tmp_path):
     assert all(rows == [] for rows in pairs.values())
 
 
+def test_moved_runs_keep_their_scores(finished, tmp_path, monkeypatch):
+    """The score cache is keyed by what a run is, not where it lies: the runs
+    moved elsewhere (as shipping moves them into results/) are tabled from
+    the scores kept, and two runs that differ have different keys."""
+    import locustjump.runs.study_table as st
+
+    path, _, _ = finished
+    study = load_study(path)
+    shutil.copytree(study.root, tmp_path / "moved")
+    out = shutil.copytree(study.out, tmp_path / "out")
+    moved = tmp_path / "moved.toml"
+    moved.write_text(
+        path.read_text()
+        .replace(f'root = "{study.root}"', f'root = "{tmp_path / "moved"}"')
+        .replace("seeds =", f'out = "{out}"\nseeds =', 1)
+    )
+    there = load_study(moved)
+    assert there.arms["rcga"].run_dir(0) != study.arms["rcga"].run_dir(0)
+
+    def no_simulation(*args, **kwargs):
+        raise AssertionError("a moved run was re-simulated")
+
+    monkeypatch.setattr(st, "score_run", no_simulation)
+    md, _ = st.make_table(there, st.run_rows(there, st.scores(there)))
+    assert md == (study.out / TABLE_MD).read_text()
+    keys = {st._key(a.run_dir(s), None, None) for a, s in study.runs()}
+    assert len(keys) == len(list(study.runs()))
+
+
 @pytest.mark.parametrize(
     "change, message",
     [

@@ -18,8 +18,9 @@ margin and the seeds 80 % power would need (:mod:`locustjump.present.stats`),
 and the verdict those numbers allow.
 
 Scores are kept in ``OUT/scores.json``, keyed by each run's configuration
-hash, best genome and the evaluation, so that a table is rescored only for
-what changed.
+hash, best genome and the evaluation (not by where the run lies: a run
+moved, e.g. shipped from runs/ into results/, keeps its scores), so that a
+table is rescored only for what changed.
 """
 
 from __future__ import annotations
@@ -94,7 +95,7 @@ def _key(path: Path, substeps: int | None, terrains) -> str:
     genome = hashlib.sha256(
         np.ascontiguousarray(best.genome, "<f8").tobytes()
     ).hexdigest()[:16]
-    return json.dumps([SCORES_VERSION, str(path), cfg.hash(), genome, substeps,
+    return json.dumps([SCORES_VERSION, cfg.hash(), genome, substeps,
                        None if terrains is None else list(terrains)])  # fmt: skip
 
 
