@@ -254,7 +254,8 @@ class Behaviour:
         """(n_controllers,) fitness: the mean over each controller's start states."""
         f = np.where(res.unstable, self.worst_fitness, self.episode_fitness(res, p))
         k = len(self.start_states(p))
-        return f.reshape(-1, k).mean(axis=1)
+        mean: np.ndarray = f.reshape(-1, k).mean(axis=1)
+        return mean
 
     def fitness_terms(
         self, res: RolloutResult, p: lm.LocustParams
@@ -316,7 +317,15 @@ class Behaviour:
             return fits[0], parts[0]
         return self.terrains.combine(np.stack(fits)), RolloutResult.concat(parts)
 
-    def _evaluate_here(self, genomes, p, backend, engine, record, label):
+    def _evaluate_here(
+        self,
+        genomes: np.ndarray,
+        p: lm.LocustParams,
+        backend: Backend | None,
+        engine: str,
+        record: tuple[str, ...] | None,
+        label: str,
+    ) -> tuple[np.ndarray, RolloutResult]:
         """:meth:`evaluate` on this behaviour's scene alone."""
         res = self.simulate(
             genomes, p, backend=backend, engine=engine, record=record, label=label

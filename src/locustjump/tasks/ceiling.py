@@ -85,7 +85,8 @@ class OpenLoop:
 def apex_rise(qpos: np.ndarray) -> np.ndarray:
     """``max_t z_t - z_0`` of trajectories ``qpos (n, T + 1, nq)``: (n,) m."""
     z = qpos[:, :, 2]
-    return z.max(axis=1) - z[:, 0]
+    rise: np.ndarray = z.max(axis=1) - z[:, 0]
+    return rise
 
 
 class KickApex(Kick):

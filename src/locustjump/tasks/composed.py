@@ -41,7 +41,7 @@ import numpy as np
 from locustjump.ranges import Range, check_settings
 from locustjump.sim import model as lm
 from locustjump.sim.analysis import clearance, find_jumps
-from locustjump.sim.controller import MLP, Controller, MLPWeights
+from locustjump.sim.controller import MLP, Controller, KernelSpec, MLPWeights
 from locustjump.sim.engine.job import RolloutResult, StartStates
 from locustjump.sim.kernels import soa
 from locustjump.sim.scene import Flat, Scene
@@ -71,7 +71,8 @@ def successive_fitness(
     height, distance = successive_terms(qpos, p, scene)
     if scene.is_flat:
         return height
-    return height + distance
+    fitness: np.ndarray = height + distance
+    return fitness
 
 
 def successive_terms(
@@ -148,7 +149,7 @@ class SwitchingController:
     def prepare(self, params: np.ndarray) -> tuple[MLPWeights, MLPWeights]:
         return self.switcher.prepare(params), self.network.prepare(self.simple)
 
-    def kernel(self, prepared: tuple[MLPWeights, MLPWeights]) -> tuple:
+    def kernel(self, prepared: tuple[MLPWeights, MLPWeights]) -> KernelSpec:
         """The compiled path's form of ``act`` (:func:`~.kernels.switch`):
         the switcher's and the simple networks' weights episode-last."""
         switcher, simple = prepared
@@ -162,7 +163,8 @@ class SwitchingController:
 
     def select(self, switcher: MLPWeights, obs: np.ndarray) -> np.ndarray:
         """(n,) index of the simple behaviour with the largest switcher output."""
-        return np.argmax(self.switcher.apply(switcher, obs), axis=1)
+        index: np.ndarray = np.argmax(self.switcher.apply(switcher, obs), axis=1)
+        return index
 
     def act(
         self,

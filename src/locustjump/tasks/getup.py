@@ -111,7 +111,8 @@ class GetUp(Behaviour):
         return rolled_starts(p, self.rolls, self.scene)
 
     def episode_fitness(self, res: RolloutResult, p: lm.LocustParams) -> np.ndarray:
-        return up_z(res)[:, 1:].mean(axis=1)
+        fitness: np.ndarray = up_z(res)[:, 1:].mean(axis=1)
+        return fitness
 
     def state_labels(self) -> list[str]:
         return [f"roll{r:03.0f}" for r in self.rolls]

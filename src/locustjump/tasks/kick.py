@@ -37,7 +37,8 @@ def kick_fitness(qpos: np.ndarray) -> np.ndarray:
     d = qpos[:, :, :3] - qpos[:, :1, :3]
     dx = np.maximum(d[:, :, 0], 0.0)
     dz = np.maximum(d[:, :, 2], 0.0)
-    return (dx * dz).max(axis=1)
+    area: np.ndarray = (dx * dz).max(axis=1)
+    return area
 
 
 def kick_descriptors(qpos: np.ndarray, body_length: float) -> dict[str, np.ndarray]:
@@ -83,7 +84,7 @@ class KickReward(StepReward):
 
     def step(self, qpos: np.ndarray, obs: np.ndarray) -> float:
         d = qpos[:3] - self._start
-        area = max(d[0], 0.0) * max(d[2], 0.0)
+        area: float = max(d[0], 0.0) * max(d[2], 0.0)
         gain = max(area - self._best, 0.0)
         self._best = max(self._best, area)
         return gain

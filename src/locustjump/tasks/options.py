@@ -48,7 +48,7 @@ def _ints(value: Any) -> bool:
     )
 
 
-def option_fields(options: type) -> tuple[dataclasses.Field, ...]:
+def option_fields(options: type) -> tuple[dataclasses.Field[Any], ...]:
     """The fields of ``Options`` class ``options`` declared with :func:`option`."""
     return tuple(f for f in dataclasses.fields(options) if OPTION_HELP in f.metadata)
 

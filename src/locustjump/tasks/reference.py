@@ -12,7 +12,7 @@ import numpy as np
 
 from locustjump.ranges import renamed
 from locustjump.sim import model as lm
-from locustjump.sim.analysis import find_jumps, stuck_overturned
+from locustjump.sim.analysis import Jump, find_jumps, stuck_overturned
 from locustjump.sim.engine.job import N_STEPS
 from locustjump.sim.engine.rollout import DEFAULT_ENGINE, rollout
 from locustjump.sim.scene import Flat, Scene
@@ -30,7 +30,7 @@ class RulesRun:
     qpos: np.ndarray
     obs: np.ndarray
     ctrl: np.ndarray
-    jumps: list
+    jumps: list[Jump]
     change_time: float
     unstable: bool
     scene: Scene = Flat()  #: where it ran

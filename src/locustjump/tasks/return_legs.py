@@ -34,7 +34,8 @@ def extended_start(p: lm.LocustParams, scene: Scene = Flat()) -> StartStates:
 
 def joint_errors(res: RolloutResult, p: lm.LocustParams) -> np.ndarray:
     """(n, T + 1, 4) |phi_i - theta_i(t)| in radians."""
-    return np.abs(res["obs"][:, :, 0:4] - p.ready_angles())
+    errors: np.ndarray = np.abs(res["obs"][:, :, 0:4] - p.ready_angles())
+    return errors
 
 
 class LegsReward(StepReward):
@@ -58,7 +59,8 @@ class ReturnLegs(Behaviour):
         return extended_start(p, self.scene)
 
     def episode_fitness(self, res: RolloutResult, p: lm.LocustParams) -> np.ndarray:
-        return -joint_errors(res, p)[:, 1:].sum(axis=2).mean(axis=1)
+        fitness: np.ndarray = -joint_errors(res, p)[:, 1:].sum(axis=2).mean(axis=1)
+        return fitness
 
     def metrics(
         self,
