@@ -63,7 +63,7 @@ class Trainer:
         task: Behaviour,
         optimizer: Optimizer,
         backend: Backend,
-        run_dir: str | os.PathLike,
+        run_dir: str | os.PathLike[str],
         cfg: TrainConfig,
     ):
         self.beh, self.opt, self.backend = task, optimizer, backend

@@ -31,6 +31,7 @@ import re
 import time
 from collections.abc import Callable, Sequence
 from pathlib import Path
+from types import ModuleType
 from typing import TYPE_CHECKING, Any
 
 from tqdm.auto import tqdm
@@ -86,7 +87,7 @@ def parse_seeds(text: str) -> list[int]:
 
 
 def reproduce_seeds(
-    out: str | os.PathLike,
+    out: str | os.PathLike[str],
     seeds: Sequence[int],
     *,
     budget: str | Budget = "quick",
@@ -144,6 +145,7 @@ def reproduce_seeds(
                 )  # fmt: skip
                 _write_results(rep.out, here)
         else:
+            assert threads is not None  # _task_threads set it when Ray connected
             _run_on_ray(ray, rep, threads, monolithic, here, progress, log, videos)
         path = _write_results(rep.out, here)
         log(f"wrote {path} and {rep.out / rundir.REPORT}")
@@ -187,8 +189,16 @@ def _stage_task(
     return fitness, time.perf_counter() - t0
 
 
-def _run_on_ray(ray, rep: Reproduction, threads, monolithic, here, progress, log,
-                videos) -> None:  # fmt: skip
+def _run_on_ray(
+    ray: ModuleType,
+    rep: Reproduction,
+    threads: int,
+    monolithic: bool,
+    here: Backend,
+    progress: bool,
+    log: Callable[[str], None],
+    videos: bool,
+) -> None:
     task = ray.remote(num_cpus=threads)(_stage_task)
     pending: dict[Any, tuple[int, str]] = {}
     left = {s: 0 for s in rep.seeds}

@@ -72,7 +72,7 @@ _log = logging.getLogger(__name__)
 
 
 def reproduce(
-    out: str | os.PathLike,
+    out: str | os.PathLike[str],
     *,
     budget: str | Budget = "quick",
     seed: int = 0,
@@ -190,8 +190,8 @@ def render_videos(
 
 
 def replay(
-    src: str | os.PathLike,
-    out: str | os.PathLike,
+    src: str | os.PathLike[str],
+    out: str | os.PathLike[str],
     *,
     backend: Backend | None = None,
     force: bool = False,

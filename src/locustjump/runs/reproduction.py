@@ -132,7 +132,7 @@ class Reproduction:
     @classmethod
     def open(
         cls,
-        out: str | os.PathLike,
+        out: str | os.PathLike[str],
         budget: str | Budget,
         seeds: Sequence[int],
         *,

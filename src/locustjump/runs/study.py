@@ -19,7 +19,7 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -27,7 +27,8 @@ from locustjump import rundir
 from locustjump.errors import UserError
 from locustjump.rundir import FrozenGenomes
 from locustjump.rundir.config import TrainConfig
-from locustjump.runs.studyfile import Arm, Study
+from locustjump.runs.studyarms import Arm
+from locustjump.runs.studyfile import Study
 from locustjump.runs.trainer import train
 from locustjump.sim import model as lm
 from locustjump.sim.engine.rollout import rollout
@@ -148,8 +149,8 @@ def check_run(study: Study, arm: Arm, seed: int) -> None:
             )
 
 
-def _differences(a: dict, b: dict, prefix: str = "") -> list[str]:
-    out = []
+def _differences(a: dict[str, Any], b: dict[str, Any], prefix: str = "") -> list[str]:
+    out: list[str] = []
     for k in sorted(set(a) | set(b)):
         x, y = a.get(k), b.get(k)
         if isinstance(x, dict) and isinstance(y, dict):

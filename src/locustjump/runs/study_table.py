@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import hashlib
 import json
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import asdict
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -38,9 +38,10 @@ from locustjump import rundir
 from locustjump.errors import UserError
 from locustjump.present.compare import Group, convergence_figure
 from locustjump.present.episodes import score_run
-from locustjump.present.stats import compare_samples, pairs_table
+from locustjump.present.stats import Comparison, compare_samples, pairs_table
 from locustjump.runs.study import check_run, states
-from locustjump.runs.studyfile import Arm, Study
+from locustjump.runs.studyarms import Arm
+from locustjump.runs.studyfile import Study
 
 if TYPE_CHECKING:
     from locustjump.sim.engine.backends import Backend
@@ -89,7 +90,7 @@ def curve(study: Study, arm: Arm, seed: int) -> tuple[np.ndarray, np.ndarray]:
     return np.cumsum(m[col]) + offset, np.maximum.accumulate(m["best"])
 
 
-def _key(path: Path, substeps: int | None, terrains) -> str:
+def _key(path: Path, substeps: int | None, terrains: tuple[int, ...] | None) -> str:
     cfg = rundir.load_config(path / rundir.CONFIG)
     best = rundir.BestGenome.load(path / rundir.BEST)
     genome = hashlib.sha256(
@@ -100,7 +101,9 @@ def _key(path: Path, substeps: int | None, terrains) -> str:
 
 
 def scores(
-    study: Study, backend: Backend | None = None, log=None
+    study: Study,
+    backend: Backend | None = None,
+    log: Callable[[str], None] | None = None,
 ) -> dict[tuple[str, int, int | None], list[dict[str, Any]]]:
     """Per (arm, seed, substeps) of every scored run, its episodes' scores (one
     dict per terrain), from ``OUT/scores.json`` where it holds them."""
@@ -127,17 +130,19 @@ def scores(
     return out
 
 
-def _mean(eps: list[dict], key: str) -> float | None:
+def _mean(eps: list[dict[str, Any]], key: str) -> float | None:
     v = [e[key] for e in eps if e.get(key) is not None]
     return float(np.mean(v)) if v else None
 
 
-def _max(eps: list[dict], key: str) -> float | None:
+def _max(eps: list[dict[str, Any]], key: str) -> float | None:
     v = [e[key] for e in eps if e.get(key) is not None]
     return float(np.max(v)) if v else None
 
 
-def run_rows(study: Study, sc: dict) -> list[dict[str, Any]]:
+def run_rows(
+    study: Study, sc: dict[tuple[str, int, int | None], list[dict[str, Any]]]
+) -> list[dict[str, Any]]:
     """One row per scored run: its budget, training fitness, late gain and,
     per physics resolution, its score and diagnostics."""
     rows = []
@@ -177,7 +182,7 @@ def _label(sub: int | None) -> str:
     return "as trained" if sub is None else f"{sub} substeps"
 
 
-def make_table(study: Study, rows: list[dict[str, Any]]) -> tuple[str, dict]:
+def make_table(study: Study, rows: list[dict[str, Any]]) -> tuple[str, dict[str, Any]]:
     """The study's table (Markdown) and everything in it (JSON-able)."""
     arms = study.scored
     by_arm = {a.name: [r for r in rows if r["arm"] == a.name] for a in arms}
@@ -273,7 +278,7 @@ def make_table(study: Study, rows: list[dict[str, Any]]) -> tuple[str, dict]:
     return "\n".join(md) + "\n", out
 
 
-def _compared(study: Study, samples: dict[str, np.ndarray]) -> list:
+def _compared(study: Study, samples: dict[str, np.ndarray]) -> list[Comparison]:
     """The study's pairs (:func:`pairs`) compared on ``samples`` (per arm)."""
     return [
         compare_samples(samples[x.name], samples[y.name],
@@ -337,7 +342,10 @@ def _reading(study: Study) -> str:
 
 
 def study_table(
-    study: Study, backend: Backend | None = None, log=None, figure: bool = True
+    study: Study,
+    backend: Backend | None = None,
+    log: Callable[[str], None] | None = None,
+    figure: bool = True,
 ) -> tuple[Path, Path]:
     """Score every scored run of ``study`` (every run must be finished), write
     ``OUT/table.md``, ``OUT/table.json`` and the learning curves

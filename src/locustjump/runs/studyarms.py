@@ -64,7 +64,7 @@ def _text(v: Any, key: str, src: str) -> str:
     return v
 
 
-def _merged(base: dict, over: dict) -> dict:
+def _merged(base: dict[str, Any], over: dict[str, Any]) -> dict[str, Any]:
     """``over`` on ``base``, tables merged key by key (a scene or optimizer
     table naming another ``kind`` than the default's replaces it whole)."""
     out = copy.deepcopy(base)

@@ -107,7 +107,7 @@ class Study:
         return out
 
 
-def load_study(path: str | os.PathLike, seeds: str | None = None) -> Study:
+def load_study(path: str | os.PathLike[str], seeds: str | None = None) -> Study:
     """The study in TOML file ``path``, every key checked (``UserError`` naming
     the file and the key). ``seeds`` (``"0-4"``) narrows its seeds to those."""
     path = Path(path)

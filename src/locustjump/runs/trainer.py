@@ -38,7 +38,7 @@ OUT, RESUME = setting_ref("out"), setting_ref("resume", True)
 
 def train(
     cfg: TrainConfig,
-    out: str | os.PathLike,
+    out: str | os.PathLike[str],
     *,
     resume: bool = False,
     backend: Backend | None = None,
