@@ -14,6 +14,7 @@ from locustjump import opengl as _opengl  # noqa: F401
 # isort: split
 
 import importlib as _importlib
+from typing import Any as _Any
 
 from locustjump.version import __version__
 
@@ -43,7 +44,7 @@ _FROM = {
 _MODULE_OF = {name: module for module, names in _FROM.items() for name in names}
 
 
-def __getattr__(name: str):
+def __getattr__(name: str) -> _Any:
     if name in _MODULE_OF:
         value = getattr(_importlib.import_module(_MODULE_OF[name]), name)
         globals()[name] = value

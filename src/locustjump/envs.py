@@ -233,7 +233,8 @@ class LocustEnv(gym.Env):
         if self._renderer is None:
             self._renderer = make_renderer(self._episode.model, *self._size)
         self._renderer.update_scene(self._episode.data, camera=self._camera)
-        return self._renderer.render()
+        frame: np.ndarray = self._renderer.render()
+        return frame
 
     def close(self) -> None:
         if self._renderer is not None:

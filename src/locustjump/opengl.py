@@ -20,6 +20,8 @@ import ctypes
 import importlib
 import os
 import sys
+from collections.abc import Sequence
+from types import ModuleType
 
 #: why offscreen rendering is off (set by :func:`choose`), else None
 PROBLEM: str | None = None
@@ -105,7 +107,12 @@ class _BeforeMuJoCo:
     :func:`choose` when ``mujoco`` is first imported, and finds nothing
     itself: the import goes on as if it were not there."""
 
-    def find_spec(self, name, path=None, target=None):
+    def find_spec(
+        self,
+        name: str,
+        path: Sequence[str] | None = None,
+        target: ModuleType | None = None,
+    ) -> None:
         if name == "mujoco":
             choose()
         return None
