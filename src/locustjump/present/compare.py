@@ -22,15 +22,22 @@ import os
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
 from matplotlib.backend_bases import FigureCanvasBase
 
 from locustjump import rundir
 from locustjump.errors import UserError, setting_ref
+from locustjump.evo.base import OptimizerParams
 from locustjump.present.plots import subplots
 from locustjump.present.stats import Sample, compare_samples, interval_text, p_text
 from locustjump.ranges import Range, SettingValueError
+from locustjump.rundir.config import TrainConfig
+from locustjump.sim.scene import Terrains
+
+if TYPE_CHECKING:
+    from _typeshed import DataclassInstance
 
 #: the x axis when a composed run's frozen runs are counted (total_budget)
 TOTAL_LABEL = "genome evaluations, the frozen simple runs' included"
@@ -56,18 +63,18 @@ class Group:
         return float(q[0]), float(q[1]), float(q[2])
 
 
-def optimizer_label(params) -> str:
+def optimizer_label(params: OptimizerParams) -> str:
     """The optimizer's kind, with the settings that differ from its defaults
     (population aside): ``rcga``, ``rcga(crossover=sbx)``, ``cma(sigma0=1)``."""
     changed = [
         f"{f.name}={getattr(params, f.name)}"
-        for f in dataclasses.fields(params)
+        for f in dataclasses.fields(cast("DataclassInstance", params))  # a dataclass
         if f.name != "population" and getattr(params, f.name) != f.default
     ]
     return params.kind + (f"({', '.join(changed)})" if changed else "")
 
 
-def scene_label(terrains) -> str:
+def scene_label(terrains: Terrains) -> str:
     """The world a run trained in, its terrain seeds aside: the scene's kind
     with the parameters that differ from its defaults, and ``min`` when its
     terrains' fitness was their worst: ``flat``, ``debris``,
@@ -82,7 +89,7 @@ def scene_label(terrains) -> str:
     return label + ("" if terrains.aggregate == "mean" else f" {terrains.aggregate}")
 
 
-def _key(cfg, by: str) -> str:
+def _key(cfg: TrainConfig, by: str) -> str:
     if "," in by:
         return " / ".join(_key(cfg, k) for k in by.split(","))
     if by == "optimizer":
@@ -94,7 +101,7 @@ def _key(cfg, by: str) -> str:
     return str(getattr(cfg, by))
 
 
-def frozen_evaluations(run: Path, cfg) -> int:
+def frozen_evaluations(run: Path, cfg: TrainConfig) -> int:
     """Genome evaluations of the runs whose best genomes ``run`` builds on
     (0 for a behaviour built on none). Each is found where ``frozen.npz``
     says it came from (relative to the working directory) or beside ``run``
@@ -124,7 +131,7 @@ def _hash(run: Path) -> str:
 
 
 def load_groups(
-    dirs: Sequence[str | os.PathLike], by: str = "optimizer",
+    dirs: Sequence[str | os.PathLike[str]], by: str = "optimizer",
     total_budget: bool = False,
 ) -> list[Group]:  # fmt: skip
     """The runs in ``dirs`` grouped by ``by`` (one of :data:`KEYS`, or several
@@ -144,7 +151,8 @@ def load_groups(
         )
     if not dirs:
         raise UserError("compare needs at least one run directory")
-    found: dict[str, list] = {}
+    # per value of the key: (run, best fitness, evaluations, its curve)
+    found: dict[str, list[tuple[Path, float, int, tuple[np.ndarray, np.ndarray]]]] = {}
     behaviours, scenes = set(), set()
     for d in map(Path, dirs):
         if not rundir.is_run(d):
@@ -256,7 +264,7 @@ def _tests(g: Group, ref: Group, margin: float | None) -> list[str]:
     return [*cells, c.verdict]
 
 
-def check_figure_path(path: str | os.PathLike) -> Path:
+def check_figure_path(path: str | os.PathLike[str]) -> Path:
     """``path`` if Matplotlib can write a figure in the format its suffix
     names (none: PNG), else a ``SettingError`` naming ``figure``."""
     path = Path(path)
@@ -269,7 +277,7 @@ def check_figure_path(path: str | os.PathLike) -> Path:
     return path
 
 
-def convergence_figure(groups: Sequence[Group], path: str | os.PathLike,
+def convergence_figure(groups: Sequence[Group], path: str | os.PathLike[str],
                        title: str = "", xlabel: str = "genome evaluations",
                        ) -> Path:  # fmt: skip
     """Best fitness so far against genome evaluations: median line and

@@ -45,7 +45,7 @@ from locustjump.sim.scene import Scene
 
 if TYPE_CHECKING:
     from locustjump.sim.engine.backends import Backend
-    from locustjump.sim.engine.job import RolloutResult
+    from locustjump.sim.engine.job import RolloutResult, StartStates
     from locustjump.tasks.base import Behaviour
 
 
@@ -94,7 +94,7 @@ class EpisodeScore:
 
 
 def score_run(
-    run: str | os.PathLike,
+    run: str | os.PathLike[str],
     *,
     terrain_seeds: Sequence[int] | None = None,
     substeps: int | None = None,
@@ -153,7 +153,11 @@ def _scenes(
 
 
 def _score(
-    here: Behaviour, genome: np.ndarray, p: lm.LocustParams, engine: str, backend
+    here: Behaviour,
+    genome: np.ndarray,
+    p: lm.LocustParams,
+    engine: str,
+    backend: Backend,
 ) -> EpisodeScore:
     """The score of ``genome`` in ``here``'s (one-terrain) episode."""
     record = tuple(dict.fromkeys(("qpos", *here.record, *CONTACT_RECORDS)))
@@ -224,7 +228,7 @@ class DeepestContact:
 
 
 def deepest_contact(
-    run: str | os.PathLike,
+    run: str | os.PathLike[str],
     *,
     terrain: int | None = None,
     substeps: int | None = None,
@@ -282,7 +286,7 @@ def deepest_contact(
 def _replay(
     m: mujoco.MjModel,
     p: lm.LocustParams,
-    starts,
+    starts: StartStates,
     e: int,
     ctrl: np.ndarray,
     until: int,
@@ -297,7 +301,9 @@ def _replay(
     mujoco.mj_forward(m, d)
     names = [m.geom(g).name for g in range(m.ngeom)]
     watch = np.array([among is None or n.startswith(among) for n in names])
-    onset: dict[tuple[int, int], tuple] = {}  # pair -> speeds at its onset
+    onset: dict[
+        tuple[int, int], tuple[float, float]
+    ] = {}  # pair -> speeds at its onset
     best: dict[str, Any] = {"step": -1, "depth_m": -np.inf}
     for t in range(until + 1):
         d.ctrl[:] = ctrl[t]
@@ -306,7 +312,7 @@ def _replay(
                 mujoco.mj_step(m, d)
             n = d.ncon
             g1, g2 = d.contact.geom1[:n], d.contact.geom2[:n]
-            pairs: dict[tuple[int, int], tuple] = {}
+            pairs: dict[tuple[int, int], tuple[float, float]] = {}
             for i in range(n):
                 pair = (int(g1[i]), int(g2[i]))
                 known = onset.get(pair)
@@ -329,7 +335,9 @@ def _replay(
     return best
 
 
-def _approach_speed(m: mujoco.MjModel, d: mujoco.MjData, c) -> tuple[float, float]:
+def _approach_speed(
+    m: mujoco.MjModel, d: mujoco.MjData, c: mujoco.MjContact
+) -> tuple[float, float]:
     """(m/s) how fast contact ``c``'s geoms approach each other along its
     normal at its point (positive: closing), and their relative speed."""
     v = []

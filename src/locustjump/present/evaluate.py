@@ -12,6 +12,7 @@ import numpy as np
 from locustjump import rundir
 from locustjump.errors import UserError, setting_ref
 from locustjump.present.stages import Episodes, reporter_of
+from locustjump.rundir.config import TrainConfig
 from locustjump.sim.engine.backends import ThreadBackend
 from locustjump.sim.scene import Scene, Terrains
 
@@ -62,10 +63,10 @@ class Evaluation:
 
 
 def evaluate_run(
-    path: str | os.PathLike,
+    path: str | os.PathLike[str],
     *,
     backend: Backend | None = None,
-    eval_dir: str | os.PathLike | None = None,
+    eval_dir: str | os.PathLike[str] | None = None,
     scene: Scene | None = None,
     elite: int | None = None,
     cell: tuple[int, ...] | None = None,
@@ -139,7 +140,13 @@ def plain(value: Any) -> Any:
 
 
 def _write(
-    cfg, best, episodes: Episodes, fitness, metrics, ev: Path, elsewhere: bool
+    cfg: TrainConfig,
+    best: rundir.BestGenome,
+    episodes: Episodes,
+    fitness: float,
+    metrics: dict[str, Any],
+    ev: Path,
+    elsewhere: bool,
 ) -> Evaluation:
     """Trajectory CSVs and the behaviour's figures into ``ev``."""
     beh, res = episodes.behaviour, episodes.res
@@ -208,7 +215,7 @@ class TerrainEvaluation:
 
 
 def evaluate_terrains(
-    path: str | os.PathLike,
+    path: str | os.PathLike[str],
     seeds: list[int],
     *,
     scene: Scene | None = None,

@@ -4,35 +4,45 @@ and importing this module leaves the user's Matplotlib backend alone)."""
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any, cast
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 from matplotlib import colormaps
+from matplotlib.axes import Axes
 from matplotlib.colors import ListedColormap
 from matplotlib.figure import Figure
 from matplotlib.projections.polar import PolarAxes
 
+from locustjump.evo.archive import Archive
 from locustjump.rundir import atomic_write_bytes
 from locustjump.sim.analysis import Jump
 from locustjump.sim.model import CONTROL_DT
 from locustjump.sim.names import ACTUATED_JOINTS
+from locustjump.tasks.getup import Sweep
+
+if TYPE_CHECKING:
+    from matplotlib.typing import LegendLocType  # Matplotlib 3.9
 
 
-def _save(fig, path: Path) -> None:
+def _save(fig: Figure, path: Path) -> None:
     """Write ``fig`` as PNG with the run directory's atomic writer; close it."""
 
     atomic_write_bytes(path, lambda f: fig.savefig(f, dpi=120, format="png"))
 
 
-def subplots(*args, figsize: tuple[float, float], **kw):
+def subplots(*args: Any, figsize: tuple[float, float], **kw: Any) -> tuple[Figure, Any]:
     """``(Figure, axes)``: ``pyplot.subplots`` without pyplot (a figure no
-    backend knows of, so nothing to close and no display needed)."""
+    backend knows of, so nothing to close and no display needed). The axes
+    are one ``Axes`` or an array of them, as the arguments ask (Matplotlib
+    types them ``Any``)."""
     layout = kw.pop("constrained_layout", None)
     fig = Figure(figsize=figsize, constrained_layout=layout)
     return fig, fig.subplots(*args, **kw)
 
 
-def _finish(fig, ax, path: Path, title: str, *, legend: str) -> None:
+def _finish(
+    fig: Figure, ax: Axes, path: Path, title: str, *, legend: LegendLocType
+) -> None:
     """Grid, legend, title; save as PNG and close."""
     ax.grid(alpha=0.3)
     ax.legend(loc=legend, fontsize=8)
@@ -46,7 +56,7 @@ Ground = tuple[np.ndarray, np.ndarray]
 
 
 def _plot_trajectories(
-    ax,
+    ax: Axes,
     curves: list[tuple[str, np.ndarray, list[Jump]]],
     lw: float = 1.4,
     ground: Ground | None = None,
@@ -165,7 +175,11 @@ def behaviour_colours(n: int) -> ListedColormap:
 
 
 def selection_strip(
-    ax: Any, selected: np.ndarray, names: tuple[str, ...], *, legend_ax: Any = None
+    ax: Axes,
+    selected: np.ndarray,
+    names: tuple[str, ...],
+    *,
+    legend_ax: Axes | None = None,
 ) -> None:
     """On ``ax``: the behaviour selected at each control step, one colour each
     (:func:`behaviour_colours`), over time, with a legend of ``names`` to the
@@ -222,7 +236,7 @@ def joint_angles_figure(path: Path, angles: np.ndarray, target: np.ndarray) -> N
     )
 
 
-def sweep_figure(path: Path, sweep, *, title: str = "") -> None:
+def sweep_figure(path: Path, sweep: Sweep, *, title: str = "") -> None:
     """Polar plot of get-up success over the start roll angle."""
     fig = Figure(figsize=(5.2, 5.2), constrained_layout=True)
     ax = cast(PolarAxes, fig.add_subplot(projection="polar"))
@@ -244,7 +258,11 @@ def sweep_figure(path: Path, sweep, *, title: str = "") -> None:
 
 
 def archive_heatmap(
-    path: Path, archive: Any, *, units: dict[str, str] | None = None, title: str = ""
+    path: Path,
+    archive: Archive,
+    *,
+    units: dict[str, str] | None = None,
+    title: str = "",
 ) -> None:
     """A grid archive's elites (:class:`~locustjump.evo.archive.Archive`) as a
     heatmap (:func:`draw_archive`), written to ``path``."""
@@ -254,9 +272,9 @@ def archive_heatmap(
 
 
 def draw_archive(
-    fig: Any,
-    ax: Any,
-    archive: Any,
+    fig: Figure,
+    ax: Axes,
+    archive: Archive,
     *,
     units: dict[str, str] | None = None,
     title: str = "",
@@ -288,11 +306,10 @@ def draw_archive(
         ax.set_ylabel(label(1))
     else:
         ax.set_yticks([])
-    for axis, edges, side in ((ax.secondary_xaxis, xs, "top"),
-                              (ax.secondary_yaxis, ys, "right")):  # fmt: skip
-        if side == "right" and len(archive.dims) < 2:
-            continue
-        sec = axis(side)
+    secondary = [(ax.secondary_xaxis("top"), xs)]
+    if len(archive.dims) > 1:
+        secondary.append((ax.secondary_yaxis("right"), ys))
+    for sec, edges in secondary:
         cells = range(0, len(edges) - 1, max(1, (len(edges) - 1) // 10))
         sec.set_ticks(
             [(edges[i] + edges[i + 1]) / 2 for i in cells], [str(i) for i in cells]
@@ -309,7 +326,7 @@ def draw_archive(
 
 def repertoire_composition_figure(
     path: Path,
-    archive: Any,
+    archive: Archive,
     chosen: np.ndarray,
     height: np.ndarray,
     selected: np.ndarray,

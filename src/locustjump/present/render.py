@@ -79,7 +79,8 @@ class Playback:
 
     @property
     def n_steps(self) -> int:
-        return self.qpos.shape[1] - 1
+        steps: int = self.qpos.shape[1] - 1
+        return steps
 
 
 def _rules_run(path: Path) -> tuple[float, int, lm.LocustParams, str, Scene] | None:
@@ -123,7 +124,7 @@ class Source:
 
 
 def source_of(
-    path: str | os.PathLike,
+    path: str | os.PathLike[str],
     scene: Scene | None = None,
     *,
     elite: int | None = None,
@@ -189,7 +190,7 @@ def source_of(
 
 
 def playback_of(
-    path: str | os.PathLike,
+    path: str | os.PathLike[str],
     *,
     backend: Backend | None = None,
     scene: Scene | None = None,
@@ -246,14 +247,18 @@ def make_renderer(m: mujoco.MjModel, width: int, height: int) -> mujoco.Renderer
         ) from None
 
 
-def _font(size: int):
+#: Pillow's default font: scalable (Pillow >= 10.1), else a bitmap
+_Font = ImageFont.FreeTypeFont | ImageFont.ImageFont
+
+
+def _font(size: int) -> _Font:
     try:
         return ImageFont.load_default(size=size)
     except TypeError:  # Pillow < 10.1: fixed-size bitmap font
         return ImageFont.load_default()
 
 
-def _caption(img: np.ndarray, lines: list[str], font) -> np.ndarray:
+def _caption(img: np.ndarray, lines: list[str], font: _Font) -> np.ndarray:
     im = Image.fromarray(img)
     draw = ImageDraw.Draw(im)
     y = 4
@@ -320,7 +325,7 @@ def check_video_path(out: Path, *, force: bool = False) -> None:
 
 def render_video(
     pb: Playback,
-    out: str | os.PathLike,
+    out: str | os.PathLike[str],
     *,
     fps: float = 60.0,
     camera: str = names.CAMERA_TRACK,
@@ -339,8 +344,8 @@ def render_video(
 
 
 def render_run(
-    path: str | os.PathLike,
-    out: str | os.PathLike | None = None,
+    path: str | os.PathLike[str],
+    out: str | os.PathLike[str] | None = None,
     *,
     fps: float = 60.0,
     camera: str = names.CAMERA_TRACK,

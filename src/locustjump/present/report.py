@@ -119,7 +119,8 @@ def markdown_to_html(text: str, base: Path) -> str:
                 _embed(token, base)
             elif token.type == "link_open":
                 token.attrSet("href", _html_twin(str(token.attrGet("href") or "")))
-    return _MARKDOWN.renderer.render(tokens, _MARKDOWN.options, {})
+    html: str = _MARKDOWN.renderer.render(tokens, _MARKDOWN.options, {})
+    return html
 
 
 def _cell(v: Any) -> str:
@@ -268,10 +269,10 @@ Self-contained: no network needed.</footer>
 
 
 def write_report(
-    path: str | os.PathLike,
+    path: str | os.PathLike[str],
     *,
     backend: Backend | None = None,
-    out: str | os.PathLike | None = None,
+    out: str | os.PathLike[str] | None = None,
 ) -> Path:
     """Write the report of a training run or a reproduction ``path`` into
     ``out``, by default ``path/report.html`` (for a shipped run under

@@ -27,8 +27,11 @@ import functools
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from types import ModuleType
+from typing import Any, TypeAlias
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from locustjump.errors import UserError
 
@@ -41,7 +44,7 @@ EXACT_MAX = 50
 ARE = 3 / math.pi
 
 
-def _scipy_stats():
+def _scipy_stats() -> ModuleType:
     try:
         from scipy import stats
     except ImportError:
@@ -79,6 +82,10 @@ class Sample:
         return float(self.values.max())
 
 
+#: a :class:`Sample`, or numbers (one per seed)
+SampleLike: TypeAlias = Sample | ArrayLike
+
+
 @dataclass(frozen=True)
 class Comparison:
     """``a - b`` for two samples; fitness is maximised (higher is better).
@@ -106,7 +113,7 @@ class Comparison:
     seeds_for_power: int | None
     verdict: str
 
-    def row(self) -> dict:
+    def row(self) -> dict[str, Any]:
         """Every field, JSON-able: a bound that does not exist (infinite) or
         a p that is undefined (NaN) is None."""
         return {
@@ -115,7 +122,7 @@ class Comparison:
         }
 
 
-def _values(x, name: str) -> np.ndarray:
+def _values(x: SampleLike, name: str) -> np.ndarray:
     """``x`` (a :class:`Sample` or numbers) as a float array of at least two
     finite values; ValueError naming ``name`` otherwise."""
     if isinstance(x, Sample):
@@ -161,10 +168,13 @@ def _u_cdf(m: int, n: int) -> np.ndarray:
         return np.cumsum(u_null_distribution(m, n))
     sigma = math.sqrt(m * n * (m + n + 1) / 12)
     u = np.arange(m * n + 1)
-    return _scipy_stats().norm.cdf((u + 0.5 - m * n / 2) / sigma)
+    cdf: np.ndarray = _scipy_stats().norm.cdf((u + 0.5 - m * n / 2) / sigma)
+    return cdf
 
 
-def hodges_lehmann(a, b, confidence: float = 0.95) -> tuple[float, float, float]:
+def hodges_lehmann(
+    a: SampleLike, b: SampleLike, confidence: float = 0.95
+) -> tuple[float, float, float]:
     """The Hodges–Lehmann shift of ``a - b`` and its distribution-free
     interval: ``(shift, low, high)``, in the samples' units.
 
@@ -196,7 +206,7 @@ def hodges_lehmann(a, b, confidence: float = 0.95) -> tuple[float, float, float]
     return shift, float(d[k - 1]), float(d[d.size - k])
 
 
-def tost(a, b, margin: float) -> float:
+def tost(a: SampleLike, b: SampleLike, margin: float) -> float:
     """p of equivalence of ``a`` and ``b`` within ``±margin`` (fitness units):
     the larger p of two one-sided Mann–Whitney tests, of H0 shift <= -margin
     (``a + margin`` against ``b``, alternative greater) and of H0 shift >=
@@ -212,7 +222,7 @@ def tost(a, b, margin: float) -> float:
     return float(max(above, below))
 
 
-def pooled_spread(a, b) -> float:
+def pooled_spread(a: SampleLike, b: SampleLike) -> float:
     """The pooled standard deviation of two samples (each variance with
     ddof=1, weighted by its degrees of freedom), in their units."""
     x, y = _values(a, "a"), _values(b, "b")
@@ -242,7 +252,7 @@ def seeds_for_power(
     if spread == 0:
         return None
     norm = _scipy_stats().norm
-    z = norm.ppf(1 - alpha / 2) + norm.ppf(power)
+    z: float = norm.ppf(1 - alpha / 2) + norm.ppf(power)
     return max(2, math.ceil(2 * (z * spread / delta) ** 2 / ARE))
 
 
@@ -275,8 +285,8 @@ def verdict(c: Comparison) -> str:
 
 
 def compare_samples(
-    a, b, *, names: tuple[str, str] | None = None, margin: float | None = None,
-    confidence: float = 0.95,
+    a: SampleLike, b: SampleLike, *, names: tuple[str, str] | None = None,
+    margin: float | None = None, confidence: float = 0.95,
 ) -> Comparison:  # fmt: skip
     """``a - b`` as a :class:`Comparison`: the Hodges–Lehmann shift and its
     interval, the two-sided Mann–Whitney test and, with ``margin`` (> 0,

@@ -20,7 +20,7 @@ import os
 import re
 import subprocess
 import tempfile
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from pathlib import Path
 
 import numpy as np
@@ -46,7 +46,8 @@ def ffmpeg_exe() -> str:
             "mp4 needs imageio-ffmpeg: pip install -e '.[video]' in the clone "
             "(or use .gif)"
         ) from None
-    return imageio_ffmpeg.get_ffmpeg_exe()
+    exe: str = imageio_ffmpeg.get_ffmpeg_exe()
+    return exe
 
 
 def write_video(
@@ -66,7 +67,12 @@ def write_video(
         encode(tmp, frames, fps, progress or (lambda n: None))
 
 
-def _gif(tmp: Path, frames, fps: float, progress) -> None:
+def _gif(
+    tmp: Path,
+    frames: Iterable[np.ndarray],
+    fps: float,
+    progress: Callable[[int], object],
+) -> None:
     images = []
     for n, frame in enumerate(frames, start=1):
         images.append(Image.fromarray(frame))
@@ -78,7 +84,12 @@ def _gif(tmp: Path, frames, fps: float, progress) -> None:
         )  # fmt: skip
 
 
-def _mp4(tmp: Path, frames, fps: float, progress) -> None:
+def _mp4(
+    tmp: Path,
+    frames: Iterable[np.ndarray],
+    fps: float,
+    progress: Callable[[int], object],
+) -> None:
     frames = iter(frames)
     first = next(frames)
     height, width = first.shape[:2]

@@ -27,7 +27,7 @@ DURATION = Range(0.0, lo_open=True, unit="s")
 
 
 def view(
-    path: str | os.PathLike,
+    path: str | os.PathLike[str],
     *,
     duration: float | None = None,
     scene: Scene | None = None,
@@ -66,7 +66,9 @@ def view(
             th.join(timeout=10)
 
 
-def _play(handle, ep: Episode, src: Source, end: float | None) -> None:
+def _play(
+    handle: mujoco.viewer.Handle, ep: Episode, src: Source, end: float | None
+) -> None:
     ctl = src.controller
     prepared = ctl.prepare(src.params)
     with handle as v:

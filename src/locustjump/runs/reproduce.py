@@ -26,14 +26,10 @@ from typing import TYPE_CHECKING
 from locustjump import rundir
 from locustjump.errors import UserError
 from locustjump.present.evaluate import Evaluation, evaluate_run
-from locustjump.present.render import (
-    VIDEO_FPS,
-    RenderUnavailable,
-    check_rendering,
-    render_run,
-)
+from locustjump.present.render import VIDEO_FPS, check_rendering, render_run
 from locustjump.present.report import write_report
 from locustjump.present.results import results_markdown
+from locustjump.present.video import RenderUnavailable
 from locustjump.runs.reproduction import (
     BASELINES,
     BUDGETS,

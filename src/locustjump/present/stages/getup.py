@@ -7,7 +7,7 @@ from __future__ import annotations
 import contextlib
 import os
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import IO, TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -111,7 +111,7 @@ def write_sweep(run: Path, sw: Sweep) -> list[Path]:
          sw.time_to_get_up_s]
     )  # fmt: skip
 
-    def write(f) -> None:
+    def write(f: IO[bytes]) -> None:
         np.savetxt(
             f,
             table,
@@ -128,7 +128,7 @@ def write_sweep(run: Path, sw: Sweep) -> list[Path]:
 
 
 def sweep_run(
-    path: str | os.PathLike,
+    path: str | os.PathLike[str],
     angles: np.ndarray,
     *,
     backend: Backend | None = None,
