@@ -21,7 +21,7 @@ from locustjump.cli import console, interrupts
 _swallowed: list[BaseException] = []
 
 
-def _unraisable(info) -> None:
+def _unraisable(info: sys.UnraisableHookArgs) -> None:
     if isinstance(info.exc_value, KeyboardInterrupt):
         _swallowed.append(info.exc_value)  # seen after the loading, below
         return

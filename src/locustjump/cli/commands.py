@@ -30,7 +30,7 @@ from locustjump.runs.multiseed import reproduce_seeds
 from locustjump.runs.reproduce import replay, reproduce
 from locustjump.runs.trainer import train
 from locustjump.sim import model as lm
-from locustjump.sim.engine.backends import make_backend
+from locustjump.sim.engine.backends import Backend, make_backend
 from locustjump.sim.scene import Flat, Scene
 from locustjump.tasks import behaviour_class, behaviour_names
 from locustjump.tasks.getup import sweep_angles
@@ -70,7 +70,7 @@ def terrain_table(te: TerrainEvaluation) -> str:
     return "\n".join(lines)
 
 
-def _backend(args: argparse.Namespace):
+def _backend(args: argparse.Namespace) -> Backend:
 
     return make_backend(
         args.backend, threads=args.threads, address=args.address, actors=args.actors

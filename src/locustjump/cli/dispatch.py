@@ -15,7 +15,7 @@ import os
 import sys
 import tempfile
 import traceback
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
 from locustjump import plugins, rundir
@@ -38,7 +38,7 @@ def _os_error(e: OSError) -> str:
     return f"{where}{e.strerror or e}"
 
 
-def _how_to_continue(args) -> str:
+def _how_to_continue(args: argparse.Namespace | None) -> str:
     """What the interrupted command's user does next."""
     if args is None:
         return "nothing was written"
@@ -51,7 +51,7 @@ def _how_to_continue(args) -> str:
     return "nothing was half-written"
 
 
-def _log(args, argv: Sequence[str]) -> str:
+def _log(args: argparse.Namespace | None, argv: Sequence[str]) -> str:
     """Write the current exception's traceback to a log file; its path."""
     text = (
         f"locustjump {__version__}: locustjump {' '.join(argv)}\n"
@@ -116,7 +116,8 @@ def dispatch(argv: Sequence[str] | None = None) -> int:
         ):
             parser.error(f"unrecognized arguments: {argv[0]}")
         args = parser.parse_args(argv)
-        return args.func(args)
+        status: int = args.func(args)
+        return status
     except SystemExit:
         raise
     except KeyboardInterrupt:
@@ -155,7 +156,9 @@ def dispatch(argv: Sequence[str] | None = None) -> int:
         return 2
 
 
-def _spell(parser: argparse.ArgumentParser | None):
+def _spell(
+    parser: argparse.ArgumentParser | None,
+) -> Callable[[str, bool | None], str] | None:
     """How the error names a setting: our option for it (the parser is built
     here if the error came before it was)."""
     try:

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+from typing import Any
 
 from locustjump.cli.argtypes import accepts, int_list, option_type, ranged
 from locustjump.evo import optimizer_kinds
@@ -167,11 +168,11 @@ def option_flag(name: str) -> str:
     return "--" + name.replace("_", "-")
 
 
-def behaviour_options() -> dict[str, tuple[dataclasses.Field, tuple[str, ...]]]:
+def behaviour_options() -> dict[str, tuple[dataclasses.Field[Any], tuple[str, ...]]]:
     """Every option a registered behaviour declares
     (:func:`locustjump.tasks.options.option`): its name -> (its field, the
     behaviours that take it), in the order first declared."""
-    found: dict[str, tuple[dataclasses.Field, tuple[str, ...]]] = {}
+    found: dict[str, tuple[dataclasses.Field[Any], tuple[str, ...]]] = {}
     for b in behaviour_names():
         for f in option_fields(behaviour_class(b).Options):
             field, takers = found.get(f.name, (f, ()))

@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import argparse
+from typing import Any, NoReturn
 
 from locustjump.cli import commands as cmd
 from locustjump.cli.argtypes import (
@@ -50,11 +51,11 @@ class _Formatter(argparse.HelpFormatter):
 class _Parser(argparse.ArgumentParser):
     """argparse with one-line errors (``locustjump: error: ...``), exit 2."""
 
-    def __init__(self, *args, **kwargs) -> None:
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
         kwargs.setdefault("formatter_class", _Formatter)
         super().__init__(*args, **kwargs)
 
-    def error(self, message: str):
+    def error(self, message: str) -> NoReturn:
         self.exit(2, f"locustjump: error: {message}\n")
 
 
@@ -81,7 +82,9 @@ def build_parser() -> argparse.ArgumentParser:
         "installed plugins' entry points need none: docs/architecture.md, "
         "Plugins)",
     )
-    sub = ap.add_subparsers(dest="command", required=True, parser_class=_Parser)
+    sub: argparse._SubParsersAction[argparse.ArgumentParser] = ap.add_subparsers(
+        dest="command", required=True, parser_class=_Parser
+    )
 
     p = sub.add_parser(
         "model",

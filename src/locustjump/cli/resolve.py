@@ -2,11 +2,12 @@
 
 from __future__ import annotations
 
+import argparse
 import dataclasses
 import os
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar
 
 from locustjump import rundir
 from locustjump.cli.options import option_flag, takers
@@ -17,13 +18,15 @@ from locustjump.rundir.config import TrainConfig, terrains_from_table
 from locustjump.sim.scene import Scene, Terrains, scene_class, scene_names
 from locustjump.tasks.base import option_fields
 
+_T = TypeVar("_T")
+
 
 def resolve_config(
     behaviour: str,
-    out: str | os.PathLike,
+    out: str | os.PathLike[str],
     *,
     resume: bool = False,
-    config: str | os.PathLike | None = None,
+    config: str | os.PathLike[str] | None = None,
     optimizer: str | None = None,
     seed: int | None = None,
     population: int | None = None,
@@ -96,7 +99,7 @@ def resolve_config(
     return cfg
 
 
-def _checked(option: str, make, *args, **changes):
+def _checked(option: str, make: Callable[..., _T], *args: Any, **changes: Any) -> _T:
     """``make(*args, **changes)``, its ``ValueError`` as a one-line error
     naming ``option`` (in place of the setting it changes)."""
     try:
@@ -155,7 +158,7 @@ def _scene_named(text: str) -> Terrains:
     return terrains_from_table(table["scene"], text)
 
 
-def own_terrains(path: str | os.PathLike) -> Terrains:
+def own_terrains(path: str | os.PathLike[str]) -> Terrains:
     """The terrains of run directory ``path`` (the flat floor for a rule-based
     run made before scenes)."""
     path = Path(path)
@@ -168,7 +171,9 @@ def own_terrains(path: str | os.PathLike) -> Terrains:
     raise UserError(f"--terrain-seed: {path} is not a run; give --scene too")
 
 
-def scene_override(args, path: str | os.PathLike | None = None) -> Scene | None:
+def scene_override(
+    args: argparse.Namespace, path: str | os.PathLike[str] | None = None
+) -> Scene | None:
     """The scene a command that reads directory ``path`` runs in, if its
     ``--scene``/``--terrain-seed`` ask for another than the run's own."""
     if args.scene is None and args.terrain_seed is None:

@@ -13,7 +13,9 @@ from locustjump.present.render import CAMERAS, FPS
 from locustjump.present.viewer import DURATION
 
 
-def add_showing_commands(sub: argparse._SubParsersAction) -> None:
+def add_showing_commands(
+    sub: argparse._SubParsersAction[argparse.ArgumentParser],
+) -> None:
     """Add ``render``, ``view``, ``report`` and ``compare`` to ``sub``."""
     p = sub.add_parser(
         "render",

@@ -14,7 +14,7 @@ from locustjump.runs.studyfile import load_study
 from locustjump.sim.engine.backends import make_backend
 
 
-def add_study_command(sub: argparse._SubParsersAction) -> None:
+def add_study_command(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add ``study`` to ``sub``."""
     p = sub.add_parser(
         "study",
