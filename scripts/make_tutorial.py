@@ -100,7 +100,8 @@ opens MuJoCo's viewer."""),
     ("code", """\
 from itertools import islice
 
-from locustjump.present.render import frames, playback_of
+from locustjump.present.playback import playback_of
+from locustjump.present.render import frames
 
 ev = lj.evaluate_run(kick.out)
 print(f"re-simulated fitness {ev.fitness:.6f}, recorded {ev.recorded_fitness:.6f}, "

@@ -14,7 +14,7 @@ from locustjump import tasks as behaviours
 from locustjump.errors import UserError
 from locustjump.evo import RCGAParams
 from locustjump.present.evaluate import evaluate_run
-from locustjump.present.render import playback_of
+from locustjump.present.playback import playback_of
 from locustjump.rundir.config import TrainConfig
 from locustjump.runs.trainer import train
 from locustjump.sim.controller import MLP

@@ -155,3 +155,12 @@ def test_view_plays_under_a_virtual_display(rules_dir):
     if "cannot open the MuJoCo viewer" in r.stderr:
         pytest.skip(f"no OpenGL under Xvfb here: {r.stderr.strip()[-200:]}")
     assert r.returncode == 0, r.stderr[-2000:]
+
+
+def test_playback_names_still_import_from_render():
+    """present/playback.py came out of render.py: the old import paths give
+    the same objects."""
+    from locustjump.present import playback
+
+    for name in ("Playback", "Source", "source_of", "playback_of", "acting"):
+        assert getattr(render, name) is getattr(playback, name)

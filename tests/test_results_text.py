@@ -7,7 +7,7 @@ import shutil
 
 import numpy as np
 
-from locustjump.present.render import acting
+from locustjump.present.playback import acting
 from locustjump.present.report import write_report
 from locustjump.present.results import results_markdown
 from locustjump.present.stages.base import fmt

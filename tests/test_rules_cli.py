@@ -179,7 +179,7 @@ def test_sprung_struts_are_an_option_and_leave_the_default_alone(tmp_path, capsy
     summary = json.loads((out / "summary.json").read_text())
     assert summary["model"]["strut_stiffness"] == 1e-05
     # a video of it re-simulates the same creature, sprung struts included
-    from locustjump.present.render import source_of
+    from locustjump.present.playback import source_of
 
     assert source_of(out).model_params == p
     with pytest.raises(ValueError, match="strut_stiffness"):

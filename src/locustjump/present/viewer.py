@@ -1,6 +1,6 @@
 """The interactive viewer: a run's best controller live in ``mujoco.viewer``.
 
-What it plays is what :func:`locustjump.present.render.source_of` finds in a
+What it plays is what :func:`locustjump.present.playback.source_of` finds in a
 directory; the controller acts every 1/120 s of simulated time, in real time.
 """
 
@@ -15,7 +15,7 @@ import mujoco
 import numpy as np
 
 from locustjump.errors import UserError
-from locustjump.present.render import Source, source_of
+from locustjump.present.playback import Source, source_of
 from locustjump.ranges import Range
 from locustjump.sim import names
 from locustjump.sim.engine.episode import Episode
