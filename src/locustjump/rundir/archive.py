@@ -57,12 +57,12 @@ def read_archive(
     ``cfg`` (``UserError`` naming the file: missing, of another run or grid,
     an array not as written)."""
     path = Path(out) / ARCHIVE
-    if not has_archive(cfg):
+    opt = cfg.optimizer
+    if not isinstance(opt, QDParams):  # has_archive(cfg), as mypy narrows it
         raise UserError(
-            f"{out}: a {cfg.optimizer.kind} run keeps no archive of elites "
+            f"{out}: a {opt.kind} run keeps no archive of elites "
             f"(train with {setting_ref('optimizer')} map-elites or cma-me)"
         )
-    opt = cfg.optimizer
     d, cells = len(opt.descriptors), int(np.prod(opt.cells))
     z = load_npz(path, _KEYS, max_bytes=(1 << 16) + cells * 8 * (num_params + d + 3))
     npz_format(z, path)

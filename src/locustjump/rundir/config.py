@@ -41,7 +41,7 @@ from typing import Any, TypeVar
 from locustjump import plugins
 from locustjump.errors import UserError
 from locustjump.evo import QDParams, RCGAParams, optimizer_kinds, params_class
-from locustjump.evo.base import SEED
+from locustjump.evo.base import SEED, OptimizerParams
 from locustjump.ranges import (
     INT64_MAX,
     Range,
@@ -78,7 +78,8 @@ class TrainConfig:
     seed: int = setting(0, SEED)
     #: generations to train (paper: 1000)
     generations: int = setting(1000, GENERATIONS)
-    optimizer: Any = field(default_factory=RCGAParams)  # an optimizer's settings
+    #: an optimizer's settings
+    optimizer: OptimizerParams = field(default_factory=RCGAParams)
     model: lm.LocustParams = field(default_factory=lm.LocustParams)
     #: how the controllers are computed between physics calls
     #: (:data:`~locustjump.sim.engine.job.ENGINES`): not the creature, but
