@@ -23,9 +23,11 @@ def add_study_command(sub: argparse._SubParsersAction[argparse.ArgumentParser]) 
             "Train every run a study file declares (named arms x seeds; "
             "docs/studies.md says how to write one), each into its own run "
             "directory; finished runs are kept and stopped ones continue, so a "
-            "killed study continues with the same command. --dry-run prints the "
+            "killed study continues with the same command; started more than "
+            "once (here, or on machines sharing its directories), the "
+            "processes share its runs. --dry-run prints the "
             "plan and its cost, --status what is done, --table scores every run "
-            "and writes the study's table (effect sizes with 95 %% intervals)."
+            "and writes the study's table (effect sizes with 95 % intervals)."
         ),
     )
     p.add_argument("file", metavar="FILE.toml", help="the study file")

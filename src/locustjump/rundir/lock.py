@@ -37,6 +37,11 @@ def _holder(fd: int) -> int | None:
     return None
 
 
+class InUse(UserError):
+    """The directory is locked by another process (a study's workers skip
+    such a run: another worker trains it)."""
+
+
 #: directories this process holds (re-entrant: a command that locks a
 #: reproduction may call one that locks it again)
 _held: dict[str, int] = {}
@@ -67,7 +72,7 @@ def locked(directory: str | os.PathLike[str]) -> Iterator[None]:
         except BlockingIOError:
             pid = _holder(fd)
             who = f"process {pid}" if pid else "another process"
-            raise UserError(
+            raise InUse(
                 f"{d} is in use by {who} (one writer at a time; wait for it or stop it)"
             ) from None
         except OSError as e:  # a file system without locks
@@ -79,3 +84,28 @@ def locked(directory: str | os.PathLike[str]) -> Iterator[None]:
             del _held[key]
     finally:
         os.close(fd)  # releases the lock
+
+
+def in_use(directory: str | os.PathLike[str]) -> str | None:
+    """Who holds the lock of ``directory`` if another process does ("process
+    1234", or "another process" where the holder cannot be named); ``None`` if
+    no one, this process, or no such directory. A look, not a promise: the
+    lock may be taken a moment later (:func:`locked` raises :class:`InUse`)."""
+    d = Path(directory)
+    if fcntl is None or os.path.realpath(d) in _held or not d.is_dir():
+        return None
+    try:
+        fd = os.open(d, os.O_RDONLY | os.O_DIRECTORY)
+    except OSError:
+        return None
+    try:
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            pid = _holder(fd)
+            return f"process {pid}" if pid else "another process"
+        except OSError:
+            return None
+        return None
+    finally:
+        os.close(fd)  # releases the lock if this look took it

@@ -40,6 +40,9 @@ if TYPE_CHECKING:
 #: control steps of the throughput probe per episode (``--dry-run``)
 PROBE_STEPS = 240
 
+#: seconds between looks at the runs other processes train (run_study)
+POLL_S = 30.0
+
 #: progress and diagnostics (the command line shows them; see logging)
 _log = logging.getLogger(__name__)
 
@@ -185,12 +188,20 @@ def run_study(
     backend: Backend | None = None,
     progress: bool = True,
     log: Callable[[str], None] | None = None,
+    poll: float = POLL_S,
 ) -> list[RunState]:
     """Train every run of ``study`` that is not finished (see the module's
     docstring); every existing run is checked first (:func:`check_run`), so
     a wrong study file stops before anything is trained. Returns the final
     states. ``log`` takes each line of progress (default: this module's
-    logger, at INFO)."""
+    logger, at INFO).
+
+    Several processes may train one study at once (on one machine, or on
+    several that share its directories): each takes, in order, the next run
+    that no other process holds (:func:`~locustjump.rundir.in_use`) and whose
+    frozen runs are finished, and when none is left to take but others are
+    still training it looks again every ``poll`` seconds, so each returns
+    when the whole study is done."""
     log = log or _log.info
     todo = states(study)
     for st in todo:
@@ -199,22 +210,53 @@ def run_study(
     total = sum(st.steps_left for st in left)
     log(f"study {study.name}: {len(todo) - len(left)} of {len(todo)} runs done, "
         f"{len(left)} to train ({_steps(total)} control steps)")  # fmt: skip
-    t0, spent = time.perf_counter(), 0
-    for k, st in enumerate(left, 1):
-        arm = study.arms[st.arm]
-        eta = ""
-        if spent:
-            rate = spent / (time.perf_counter() - t0)
-            eta = f", about {_duration((total - spent) / rate)} left"
-        log(f"[{k}/{len(left)}] {st.arm}, seed {st.seed} -> {st.path} "
-            f"({st.status}{eta})")  # fmt: skip
-        train(
-            arm.config(st.seed), st.path, resume=rundir.is_run(st.path),
-            backend=backend, progress=progress,
-            frozen=frozen_genomes(study, arm, st.seed) if arm.frozen else None,
-        )  # fmt: skip
-        spent += st.steps_left
+    t0, k, waiting, trained = time.perf_counter(), 0, False, set()
+    while left:
+        run, held = _next_run(study, left)
+        if run is None:  # everything left is another process's, or waits on it
+            if not waiting:
+                log(f"waiting for {len(held)} run(s) other processes train: "
+                    + ", ".join(held))  # fmt: skip
+            waiting = True
+            time.sleep(poll)
+        else:
+            st, waiting, k = run, False, k + 1
+            arm = study.arms[st.arm]
+            rest = sum(s.steps_left for s in left)
+            eta = ""
+            if rest < total:  # the study's pace, whoever trained
+                rate = (total - rest) / (time.perf_counter() - t0)
+                eta = f", about {_duration(rest / rate)} left"
+            log(f"[{k}] {st.arm}, seed {st.seed} -> {st.path} ({st.status}{eta})")
+            if st.path in trained:  # train returned, yet the run is unfinished
+                raise RuntimeError(f"{st.path}: not finished after training it")
+            try:
+                train(
+                    arm.config(st.seed), st.path, resume=rundir.is_run(st.path),
+                    backend=backend, progress=progress,
+                    frozen=frozen_genomes(study, arm, st.seed) if arm.frozen else None,
+                )  # fmt: skip
+                trained.add(st.path)
+            except rundir.InUse as e:  # another process took it first
+                log(f"{st.arm}, seed {st.seed}: left to its trainer ({e})")
+        left = [s for s in states(study) if not s.finished]
     return states(study)
+
+
+def _next_run(study: Study, left: list[RunState]) -> tuple[RunState | None, list[str]]:
+    """The first of ``left`` that no other process holds and whose frozen
+    runs are finished, or ``None`` and the runs other processes hold."""
+    todo = {s.path.resolve() for s in left}
+    held = []
+    for st in left:
+        who = rundir.in_use(st.path)
+        if who:
+            held.append(f"{st.arm} seed {st.seed} ({who})")
+            continue
+        built_on = study.arms[st.arm].frozen.values()
+        if all(study.arms[a].run_dir(st.seed).resolve() not in todo for a in built_on):
+            return st, held
+    return None, held
 
 
 def throughput(
@@ -287,7 +329,8 @@ def dry_run(study: Study, backend: Backend, where: str = "threads") -> str:
 
 
 def status(study: Study) -> str:
-    """What is done: per arm, each seed's generations done of its budget."""
+    """What is done: per arm, each seed's generations done of its budget, and
+    which runs a process is training now (``102/120, process 1234``)."""
     rows = states(study)
     seeds = study.seeds
     lines = [
@@ -295,12 +338,17 @@ def status(study: Study) -> str:
         "| --- " * (len(seeds) + 1) + "|",
     ]
     for arm in study.arms.values():
-        cells = {r.seed: r.status for r in rows if r.arm == arm.name}
+        cells = {r.seed: _cell(r) for r in rows if r.arm == arm.name}
         row = [cells[arm.seed_of(s)] for s in seeds]
         lines.append(f"| {arm.name} | " + " | ".join(row) + " |")
     done = sum(r.finished for r in rows)
     lines.append(f"\n{done} of {len(rows)} runs done")
     return "\n".join(lines)
+
+
+def _cell(r: RunState) -> str:
+    who = None if r.finished else rundir.in_use(r.path)
+    return f"{r.status}, {who}" if who else r.status
 
 
 def _steps(n: float) -> str:

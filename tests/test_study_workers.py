@@ -1,0 +1,131 @@
+"""Several processes train one study at once: each takes the runs no other
+process holds, waits for the ones it builds on, and returns when the whole
+study is done; the runs are the ones one process makes."""
+
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from helpers import assert_same_run
+from locustjump import rundir
+from locustjump.runs.study import _next_run, run_study, states, status
+from locustjump.runs.studyfile import load_study
+from locustjump.runs.trainer import train
+from locustjump.sim.engine.backends import ThreadBackend
+
+REPO = Path(__file__).resolve().parents[1]
+
+#: holds the lock of a directory until its stdin closes (another worker)
+HOLD = """
+import fcntl, os, sys
+fd = os.open(sys.argv[1], os.O_RDONLY)
+fcntl.flock(fd, fcntl.LOCK_EX)
+print("locked", flush=True)
+sys.stdin.read()
+"""
+
+
+def _hold(directory: Path) -> subprocess.Popen:
+    directory.mkdir(parents=True, exist_ok=True)
+    holder = subprocess.Popen([sys.executable, "-c", HOLD, str(directory)],
+                              stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                              text=True)  # fmt: skip
+    assert holder.stdout.readline().strip() == "locked"
+    return holder
+
+
+def _release(holder: subprocess.Popen) -> None:
+    holder.stdin.close()
+    holder.wait(timeout=30)
+
+
+def _study(tmp_path: Path, name: str, seeds: str | None = None):
+    """Study file ``name`` with its runs and table under ``tmp_path``."""
+    text = (REPO / "studies" / f"{name}.toml").read_text()
+    lines = [
+        f'root = "{tmp_path / "runs"}"' if ln.startswith("root =")
+        else f'out = "{tmp_path / "out"}"' if ln.startswith("out =")
+        else ln
+        for ln in text.splitlines()
+    ]  # fmt: skip
+    path = tmp_path / f"{name}.toml"
+    path.write_text("\n".join(lines) + "\n")
+    return load_study(path, seeds)
+
+
+def test_in_use_names_the_process_that_holds_a_directory(tmp_path):
+    d = tmp_path / "run"
+    holder = _hold(d)
+    try:
+        assert rundir.in_use(d) == f"process {holder.pid}"
+        with pytest.raises(rundir.InUse, match=f"in use by process {holder.pid}"):
+            with rundir.locked(d):
+                pass
+    finally:
+        _release(holder)
+    assert rundir.in_use(d) is None
+    with rundir.locked(d):
+        assert rundir.in_use(d) is None  # this process's own lock
+    assert rundir.in_use(tmp_path / "absent") is None
+
+
+def test_a_run_another_process_trains_is_left_to_it(tmp_path):
+    """rcga seed 0 is held by another process: this one trains the other
+    runs, says whom it waits for, and, once that process is gone without
+    finishing it, trains it too, as one process alone would."""
+    study = _study(tmp_path, "example", "0-1")
+    held = study.arms["rcga"].run_dir(0)
+    holder = _hold(held)
+    lines: list[str] = []
+    shown: list[str] = []
+
+    def log(line: str) -> None:
+        lines.append(line)
+        if line.startswith("waiting for"):
+            shown.append(status(study))
+            _release(holder)
+
+    try:
+        with ThreadBackend(1) as backend:
+            final = run_study(study, backend=backend, progress=False, log=log,
+                              poll=0.05)  # fmt: skip
+    finally:
+        if holder.poll() is None:
+            _release(holder)
+    trained = [ln.split(" -> ")[0] for ln in lines if ln.startswith("[")]
+    assert trained == ["[1] random, seed 0", "[2] rcga, seed 1",
+                       "[3] random, seed 1", "[4] rcga, seed 0"]  # fmt: skip
+    wait = [ln for ln in lines if ln.startswith("waiting")]
+    assert wait == [
+        f"waiting for 1 run(s) other processes train: rcga seed 0 "
+        f"(process {holder.pid})"
+    ]
+    assert f"| rcga | to do, process {holder.pid} | done |" in shown[0]
+    assert all(st.finished for st in final)
+    alone = tmp_path / "alone"
+    train(study.arms["rcga"].config(0), alone, progress=False)
+    assert_same_run(held, alone)
+
+
+def test_a_run_waits_for_the_runs_it_builds_on(tmp_path):
+    """The pipeline and the repertoire are not started while the simple
+    behaviours they build on are another process's; the one network is."""
+    study = _study(tmp_path, "repertoire-composition", "0")
+    left = states(study)
+    first, _ = _next_run(study, left)
+    assert first is not None and (first.arm, first.seed) == ("kick", 0)
+    simples = ("kick", "kick-repertoire", "getup", "return-legs")
+    holders = [_hold(study.arms[a].run_dir(0)) for a in simples]
+    try:
+        nxt, held = _next_run(study, left)
+        assert nxt is not None and nxt.arm == "monolithic"
+        assert held == [f"{a} seed 0 (process {h.pid})"
+                        for a, h in zip(simples, holders, strict=True)]  # fmt: skip
+        mono = [s for s in left if s.arm != "monolithic"]
+        assert _next_run(study, mono)[0] is None
+    finally:
+        for h in holders:
+            _release(h)
+    assert _next_run(study, left)[0] == first
