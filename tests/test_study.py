@@ -95,23 +95,25 @@ def test_debris_table_scores_shipped_runs_on_held_out_terrains(tmp_path, capsys)
     assert "The flat floor beside it" in text
 
 
-def test_science_md_debris_table_is_the_shipped_study():
-    """docs/science.md's debris table per arm (held out, as trained and at 12
-    substeps) and its pairs (Hodges-Lehmann shifts with their intervals) are
-    `locustjump study studies/debris-composition-5seeds.toml --table`'s,
-    results/studies/debris-composition-5seeds/table.json, rounded: the doc
-    cannot drift from the runs it cites."""
+@pytest.mark.parametrize(
+    ("study", "n"), [("debris-composition-5seeds", 5), ("repertoire-composition", 10)]
+)
+def test_science_md_tables_are_the_shipped_studies(study, n):
+    """docs/science.md's table of a study per arm (median [min, max] as
+    trained and at 12 substeps) and its pairs (Hodges-Lehmann shifts with
+    their intervals) are `locustjump study studies/STUDY.toml --table`'s,
+    results/studies/STUDY/table.json, rounded: the doc cannot drift from the
+    runs it cites."""
     import json
 
     doc = (RESULTS.parent / "docs" / "science.md").read_text()
-    path = RESULTS / "studies" / "debris-composition-5seeds" / "table.json"
-    table = json.loads(path.read_text())
+    table = json.loads((RESULTS / "studies" / study / "table.json").read_text())
 
     def cell(x):
         return f"{x['median']:.0f} [{x['min']:.0f}, {x['max']:.0f}]"
 
     for arm in table["arms"].values():
-        row = f"| {arm['label']} | 5 | "
+        row = f"| {arm['label']} | {n} | "
         assert row in doc, arm["label"]
         line = doc[doc.index(row) :].splitlines()[0]
         assert f"| {cell(arm['3'])} | {cell(arm['12'])} |" in line, line
