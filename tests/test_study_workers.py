@@ -129,3 +129,47 @@ def test_a_run_waits_for_the_runs_it_builds_on(tmp_path):
         for h in holders:
             _release(h)
     assert _next_run(study, left)[0] == first
+
+
+def test_a_run_made_between_the_look_and_the_lock_is_left_to_its_maker(
+    tmp_path, monkeypatch
+):
+    """Another process locks (and starts) a run just after this one looked:
+    whatever ``train`` then says (here: the directory holds a run), the run
+    is left to that process, not a crash."""
+    import locustjump.runs.study as study_mod
+    from locustjump.errors import UserError
+
+    study = _study(tmp_path, "example", "0")
+    held = study.arms["rcga"].run_dir(0)
+    holder = _hold(held)
+    real_in_use, real_train = rundir.in_use, study_mod.train
+    looks = {"n": 0}
+
+    def late_look(d):  # the first look misses the lock
+        looks["n"] += 1
+        return None if looks["n"] == 1 else real_in_use(d)
+
+    def train(cfg, out, **kw):
+        if out == held and holder.poll() is None:
+            raise UserError(f"--out {out}: directory holds a run")
+        return real_train(cfg, out, **kw)
+
+    monkeypatch.setattr(rundir, "in_use", late_look)
+    monkeypatch.setattr(study_mod, "train", train)
+    lines: list[str] = []
+
+    def log(line: str) -> None:
+        lines.append(line)
+        if line.startswith("waiting for"):
+            _release(holder)
+
+    try:
+        with ThreadBackend(1) as backend:
+            final = run_study(study, backend=backend, progress=False, log=log,
+                              poll=0.05)  # fmt: skip
+    finally:
+        if holder.poll() is None:
+            _release(holder)
+    assert any("rcga, seed 0: left to its trainer" in ln for ln in lines), lines
+    assert all(st.finished for st in final)

@@ -237,7 +237,9 @@ def run_study(
                     frozen=frozen_genomes(study, arm, st.seed) if arm.frozen else None,
                 )  # fmt: skip
                 trained.add(st.path)
-            except rundir.InUse as e:  # another process took it first
+            except UserError as e:  # InUse: another process took it first
+                if not isinstance(e, rundir.InUse) and not rundir.in_use(st.path):
+                    raise  # (or made it between our look and our lock)
                 log(f"{st.arm}, seed {st.seed}: left to its trainer ({e})")
         left = [s for s in states(study) if not s.finished]
     return states(study)
