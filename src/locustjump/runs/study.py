@@ -4,7 +4,8 @@ trained into its own run directory, resumably, and what it costs.
 ``run_study`` trains each (arm, seed) in turn — seed by seed, every arm after
 the arms it builds on — with :func:`~locustjump.runs.trainer.train`: a run
 that is finished is kept, one that was stopped continues from its
-checkpoint, so a killed study continues with the same command. Each run is
+checkpoint, so a killed study continues with the same command; several
+processes started on one study share its runs (see ``run_study``). Each run is
 an ordinary run directory (``evaluate``, ``report``, ``compare`` read it);
 its result depends on its configuration only, so the same study gives
 bit-identical runs on threads or on Ray (``backend``). ``plan`` says what is
