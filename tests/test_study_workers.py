@@ -41,6 +41,28 @@ def _release(holder: subprocess.Popen) -> None:
     holder.wait(timeout=30)
 
 
+def _run_releasing(study, holder: subprocess.Popen, on_wait=None):
+    """``run_study`` on one thread, releasing ``holder`` when it first waits
+    (``on_wait()`` first); (its final states, the lines it logged)."""
+    lines: list[str] = []
+
+    def log(line: str) -> None:
+        lines.append(line)
+        if line.startswith("waiting for") and holder.poll() is None:
+            if on_wait:
+                on_wait()
+            _release(holder)
+
+    try:
+        with ThreadBackend(1) as backend:
+            final = run_study(study, backend=backend, progress=False, log=log,
+                              poll=0.05)  # fmt: skip
+    finally:
+        if holder.poll() is None:
+            _release(holder)
+    return final, lines
+
+
 def _study(tmp_path: Path, name: str, seeds: str | None = None):
     """Study file ``name`` with its runs and table under ``tmp_path``."""
     text = (REPO / "studies" / f"{name}.toml").read_text()
@@ -78,22 +100,8 @@ def test_a_run_another_process_trains_is_left_to_it(tmp_path):
     study = _study(tmp_path, "example", "0-1")
     held = study.arms["rcga"].run_dir(0)
     holder = _hold(held)
-    lines: list[str] = []
     shown: list[str] = []
-
-    def log(line: str) -> None:
-        lines.append(line)
-        if line.startswith("waiting for"):
-            shown.append(status(study))
-            _release(holder)
-
-    try:
-        with ThreadBackend(1) as backend:
-            final = run_study(study, backend=backend, progress=False, log=log,
-                              poll=0.05)  # fmt: skip
-    finally:
-        if holder.poll() is None:
-            _release(holder)
+    final, lines = _run_releasing(study, holder, lambda: shown.append(status(study)))
     trained = [ln.split(" -> ")[0] for ln in lines if ln.startswith("[")]
     assert trained == ["[1] random, seed 0", "[2] rcga, seed 1",
                        "[3] random, seed 1", "[4] rcga, seed 0"]  # fmt: skip
@@ -157,19 +165,6 @@ def test_a_run_made_between_the_look_and_the_lock_is_left_to_its_maker(
 
     monkeypatch.setattr(rundir, "in_use", late_look)
     monkeypatch.setattr(study_mod, "train", train)
-    lines: list[str] = []
-
-    def log(line: str) -> None:
-        lines.append(line)
-        if line.startswith("waiting for"):
-            _release(holder)
-
-    try:
-        with ThreadBackend(1) as backend:
-            final = run_study(study, backend=backend, progress=False, log=log,
-                              poll=0.05)  # fmt: skip
-    finally:
-        if holder.poll() is None:
-            _release(holder)
+    final, lines = _run_releasing(study, holder)
     assert any("rcga, seed 0: left to its trainer" in ln for ln in lines), lines
     assert all(st.finished for st in final)
