@@ -6,7 +6,7 @@
 # archive (archive.npz) — what `locustjump evaluate` re-simulates and
 # tests/test_study.py replays; no checkpoints, figures or trajectories. A
 # run is finished when metrics.csv has its config's generations; others are
-# skipped (and named).
+# skipped (and named). A whole study: scripts/ship_study.py.
 set -e
 from=${1%/} to=${2%/}
 shift 2

@@ -1,0 +1,93 @@
+"""scripts/ship_study.py: a finished study's runs copied into results/ (no
+checkpoints), each atomically; an unfinished or conflicting study refused
+before anything is written."""
+
+import importlib.util
+import re
+from pathlib import Path
+
+import pytest
+
+from helpers import run_cli, tree_snapshot
+from locustjump import rundir
+from locustjump.runs.studyfile import load_study
+
+REPO = Path(__file__).resolve().parents[1]
+EXAMPLE = REPO / "studies" / "example.toml"
+_spec = importlib.util.spec_from_file_location(
+    "ship_study", REPO / "scripts" / "ship_study.py"
+)
+ship_study = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(ship_study)
+
+
+def _study(tmp: Path, name: str, seeds: str = "0-1") -> Path:
+    text = EXAMPLE.read_text()
+    text = text.replace('root = "runs/studies/example"', f'root = "{tmp / "runs"}"')
+    path = tmp / f"{name}.toml"
+    path.write_text(text.replace('seeds = "0-4"', f'seeds = "{seeds}"'))
+    return path
+
+
+@pytest.fixture(scope="module")
+def trained(tmp_path_factory) -> Path:
+    tmp = tmp_path_factory.mktemp("ship")
+    path = _study(tmp, "s")
+    r = run_cli("study", str(path), "--quiet", "--threads", "2")
+    assert r.returncode == 0, r.stderr
+    return path
+
+
+def test_a_finished_study_ships_its_runs_and_names_them(trained, tmp_path, capsys):
+    to = tmp_path / "results"
+    assert ship_study.main([str(trained), "--to", str(to), "--prefix", "ex"]) == 0
+    study = load_study(trained)
+    for arm, seed in study.runs():
+        dest = to / f"ex-{arm.name}-s{seed}"
+        assert sorted(p.name for p in dest.iterdir()) == [
+            "best.npz", "config.toml", "metrics.csv"]  # fmt: skip
+        for f in ("best.npz", "metrics.csv", "config.toml"):
+            assert (dest / f).read_bytes() == (arm.run_dir(seed) / f).read_bytes()
+    assert not list(to.glob(".*"))  # no temporary directory left
+    out = capsys.readouterr().out
+    assert "shipped 4 runs" in out
+    # the printed path lines make the study name its shipped runs
+    text = trained.read_text()
+    for name, path in re.findall(r'\[arms\.(\S+)\]\npath = "(.+)"', out):
+        text = text.replace(f"[arms.{name}]\n", f'[arms.{name}]\npath = "{path}"\n')
+    named = tmp_path / "named.toml"
+    named.write_text(text)
+    for arm, seed in load_study(named).runs():
+        assert arm.run_dir(seed) == to / f"ex-{arm.name}-s{seed}"
+    # shipping again copies nothing: the same runs are there
+    before = tree_snapshot(to)
+    assert ship_study.main([str(trained), "--to", str(to), "--prefix", "ex"]) == 0
+    assert ship_study.main([str(named), "--to", str(to), "--prefix", "ex"]) == 0
+    assert tree_snapshot(to) == before
+
+
+def test_an_unfinished_study_is_refused_and_nothing_is_written(
+    trained, tmp_path, capsys
+):
+    """Seed 2 has no runs yet: one line, exit 2, no destination made."""
+    wider = trained.parent / "wider.toml"
+    wider.write_text(trained.read_text().replace('seeds = "0-1"', 'seeds = "0-2"'))
+    to = tmp_path / "results"
+    assert ship_study.main([str(wider), "--to", str(to), "--prefix", "ex"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "0 of 4 generations" in err
+    assert not to.exists()
+
+
+def test_another_run_under_the_same_name_is_refused(trained, tmp_path, capsys):
+    to = tmp_path / "results"
+    study = load_study(trained)
+    arm = study.arms["random"]
+    other = to / "ex-rcga-s1"  # holds random's run, not rcga's
+    other.mkdir(parents=True)
+    for f in (rundir.BEST, rundir.METRICS):
+        (other / f).write_bytes((arm.run_dir(1) / f).read_bytes())
+    before = tree_snapshot(to)
+    assert ship_study.main([str(trained), "--to", str(to), "--prefix", "ex"]) == 2
+    assert "holds another run" in capsys.readouterr().err
+    assert tree_snapshot(to) == before
