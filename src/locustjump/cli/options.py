@@ -99,7 +99,8 @@ def add_backend(p: argparse.ArgumentParser) -> None:
         "--threads",
         type=ranged("--threads", THREADS),
         help=f"simulation threads, {accepts(THREADS)} (threads: default all "
-        "CPUs; ray: per actor, default 1); the result does not depend on it",
+        "CPUs; ray: per actor, default 1, or per task with reproduce --seeds, "
+        "default a whole node's CPUs); the result does not depend on it",
     )
     p.add_argument(
         "--address",
