@@ -58,6 +58,22 @@ def test_dry_run_prints_the_plan_and_its_cost_and_writes_nothing(tmp_path):
     assert not (tmp_path / "runs").exists()
 
 
+@pytest.mark.parametrize("load", [0.0, 0.49, 0.5, 3.0])
+def test_dry_run_says_when_its_rates_were_measured_on_a_busy_machine(
+    tmp_path, monkeypatch, load
+):
+    """Rates measured beside other work are low: the plan says so, with the
+    load it saw (a study's own workers make the machine busy)."""
+    import locustjump.runs.study as st
+    from locustjump.sim.engine.backends import ThreadBackend
+
+    monkeypatch.setattr(st.os, "getloadavg", lambda: (load, 0.0, 0.0))
+    with ThreadBackend(1) as backend:
+        text = st.dry_run(load_study(example(tmp_path)), backend)
+    note = f"busy when they were measured (load average {load:.1f} over"
+    assert (note in text) == (load >= 0.5), text.splitlines()[-1]
+
+
 def test_each_run_is_the_run_train_makes(finished, tmp_path):
     path, r, _ = finished
     study = load_study(path)

@@ -16,6 +16,7 @@ take at this machine's measured throughput (``--dry-run``).
 from __future__ import annotations
 
 import logging
+import os
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -291,6 +292,7 @@ def dry_run(study: Study, backend: Backend, where: str = "threads") -> str:
     control steps left to train and to score, and the time at this machine's
     throughput (measured per arm, :func:`throughput`)."""
     rows = states(study)
+    busy = _load()
     lines = [
         f"study {study.name} ({study.source}): {len(study.arms)} arms x "
         f"{len(study.seeds)} seeds, runs under {study.root}",
@@ -328,7 +330,26 @@ def dry_run(study: Study, backend: Backend, where: str = "threads") -> str:
         f"throughput of {PROBE_STEPS}-step episodes of random genomes on this "
         f"machine, {where}; a generation evaluates the whole population).",
     ]
+    if busy >= BUSY_LOAD:
+        lines.append(
+            f"The machine was busy when they were measured (load average {busy:.1f} "
+            f"over the last minute, {os.cpu_count()} CPUs): idle, it runs faster."
+        )
     return "\n".join(lines)
+
+
+#: a 1-minute load average from which :func:`dry_run` says its rates were
+#: measured beside other work
+BUSY_LOAD = 0.5
+
+
+def _load() -> float:
+    """This machine's load average over the last minute (0 where the system
+    does not tell)."""
+    try:
+        return os.getloadavg()[0]
+    except (AttributeError, OSError):
+        return 0.0
 
 
 def status(study: Study) -> str:
