@@ -167,7 +167,8 @@ def composed_figure(
 def behaviour_colours(n: int) -> ListedColormap:
     """The colour of each of ``n`` simple behaviours a switcher selects: the
     paper's three, or a repertoire's elites and the rest (tab20)."""
-    palette: list[Any] = ["tab:red", "tab:green", "tab:blue"]
+    palette: list[str | tuple[float, float, float, float]] = [
+        "tab:red", "tab:green", "tab:blue"]  # fmt: skip
     if n > len(palette):
         tab20 = colormaps["tab20"]
         palette = [tab20(i % 20) for i in range(n)]
