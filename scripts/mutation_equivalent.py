@@ -27,6 +27,19 @@ _SILENT = (
     "verb_disp and verb_log say (tests/test_cma_contract.py: no output, no "
     "file)"
 )
+_LOWER = (
+    "SciPy's mannwhitneyu lower-cases its alternative (checked: 'GREATER' "
+    "gives the p of 'greater')"
+)
+_PLACEHOLDER = (
+    "a placeholder: the Comparison is replaced by one with verdict(c) before "
+    "it is returned, and verdict reads no verdict"
+)
+_BOUNDS = (
+    "hodges_lehmann returns both bounds finite or both infinite, so 'either "
+    "is infinite' and 'both are' are the same test on every Comparison "
+    "compare_samples makes"
+)
 #: mutant name -> (text of its mutated line, as mutmut's diff shows it,
 #: without indentation; why no test can tell it from the original); matched
 #: by function and text (:func:`listed`)
@@ -164,5 +177,35 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
         "(out is None) and False else out",
         "without out the result is a new array either way: step is itself "
         "a fresh array (one allocation more, the same numbers)",
+    ),
+    "locustjump.present.stats.x_compare_samples__mutmut_44": (
+        "mannwhitneyu(x, y, )",
+        "two-sided is mannwhitneyu's default alternative",
+    ),
+    "locustjump.present.stats.x_compare_samples__mutmut_46": ('"TWO-SIDED"', _LOWER),
+    "locustjump.present.stats.x_tost__mutmut_30": ('"GREATER"', _LOWER),
+    "locustjump.present.stats.x_tost__mutmut_40": ('"LESS"', _LOWER),
+    "locustjump.present.stats.x_compare_samples__mutmut_61": (
+        "verdict=None,",
+        _PLACEHOLDER,
+    ),
+    "locustjump.present.stats.x_compare_samples__mutmut_100": (
+        'verdict="XXXX",',
+        _PLACEHOLDER,
+    ),
+    "locustjump.present.stats.x_hodges_lehmann__mutmut_38": (
+        "cdf <= (1 - confidence) / 2 * (1 - 1e-9)",
+        "differs only where a cumulative probability of U equals alpha/2 x "
+        "(1 - 1e-9) to the last bit, a number no sum of U's probabilities "
+        "reaches at the levels used (the slack is there to keep a cdf that "
+        "equals alpha/2 on the right side)",
+    ),
+    "locustjump.present.stats.x_interval_text__mutmut_2": (
+        "isfinite(c.low) or math.isfinite(c.high)",
+        _BOUNDS,
+    ),
+    "locustjump.present.stats.x_verdict__mutmut_12": (
+        "isfinite(c.low) or math.isfinite(c.high)",
+        _BOUNDS,
     ),
 }

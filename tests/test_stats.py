@@ -8,11 +8,15 @@ import numpy as np
 import pytest
 
 from locustjump.present.stats import (
+    EXACT_MAX,
     Comparison,
     Sample,
+    _u_cdf,
     compare_samples,
     hodges_lehmann,
+    p_text,
     pairs_table,
+    pooled_spread,
     seeds_for_power,
     tost,
     u_null_distribution,
@@ -240,3 +244,121 @@ def test_the_normal_approximation_beyond_exact_max_matches_the_count():
     assert d[d.size - k] == high  # symmetric order statistics
     exact = int(np.count_nonzero(np.cumsum(u_null_distribution(60, 55)) < 0.025))
     assert abs(k - exact) <= 1 and exact > 1000
+
+
+def test_the_null_cdf_is_exact_up_to_exact_max_and_close_beyond():
+    """P(U <= u) for u = 0 ... m*n: counted up to EXACT_MAX values a group,
+    beyond it the normal approximation with its continuity correction,
+    within 0.001 of the count (without the correction, or with it on the
+    wrong side, 0.003)."""
+    assert np.array_equal(_u_cdf(EXACT_MAX, 3), np.cumsum(u_null_distribution(50, 3)))
+    for m, n in ((EXACT_MAX + 1, EXACT_MAX + 1), (60, 55)):
+        approx, exact = _u_cdf(m, n), np.cumsum(u_null_distribution(m, n))
+        assert approx.shape == exact.shape == (m * n + 1,)
+        assert np.abs(approx - exact).max() < 0.001
+
+
+def test_values_become_one_flat_float_array():
+    s = Sample("s", [[1, 2], [3, 5]])
+    assert s.values.dtype == np.float64 and s.values.tolist() == [1.0, 2.0, 3.0, 5.0]
+    assert (s.n, s.median, s.low, s.high) == (4, 2.5, 1.0, 5.0)
+    c = compare_samples([1, 2, 3], [4, 5, 6])
+    assert isinstance(c.shift, float) and c.shift == -3.0
+    # one outcome per seed (did it recover?) compares as 0 and 1
+    assert hodges_lehmann([True, True, True], [False, True, False])[0] == 1.0
+
+
+def test_the_default_names_and_the_confidence_reach_the_comparison():
+    c = compare_samples(HW_X, HW_Y)
+    assert (c.a, c.b, c.confidence) == ("A", "B", 0.95)
+    # at 80 % the interval is the one hodges_lehmann gives at 80 %, narrower
+    c80 = compare_samples(HW_X, HW_Y, confidence=0.8)
+    assert (c80.shift, c80.low, c80.high) == hodges_lehmann(HW_X, HW_Y, 0.8)
+    assert c.low < c80.low < c80.high < c.high and c80.confidence == 0.8
+    # a margin below 1 is a margin like any other
+    assert compare_samples(HW_X, HW_Y, margin=0.5).margin == 0.5
+
+
+def test_the_row_keeps_every_finite_value():
+    c = compare_samples(HW_X, HW_Y, margin=0.5)
+    row = c.row()
+    assert row == {k: getattr(c, k) for k in row}
+    assert row["n_a"] == 10 and row["low"] == pytest.approx(-0.15)
+
+
+def test_verdicts_at_their_boundaries():
+    # an interval that reaches 0 is not evidence; a TOST p of exactly alpha
+    # is not below it
+    assert verdict(_c(-2.0, 0.0)) == "no evidence either way: interval [-2, 0]"
+    assert verdict(_c(-0.2, 0.3, 0.05, 1.0)).startswith("no evidence either way")
+    assert verdict(_c(-0.2, 0.3, 0.0499, 1.0)) == "equivalent within ±1"
+
+
+def test_p_text():
+    assert p_text(0.012345) == "0.0123"
+    assert p_text(1.0) == "1"
+    assert p_text(None) == p_text(math.nan) == "-"
+
+
+def test_pairs_table_headers_and_cells():
+    base = compare_samples(HW_X, HW_Y, margin=0.5)
+    lines = pairs_table([base]).splitlines()
+    assert lines[0] == (
+        "| pair | n | HL shift [95 % CI] | Mann–Whitney p | TOST p vs ±0.5 | "
+        "seeds for 80 % power | verdict |"
+    )
+    assert lines[1] == "| --- | --- | --- | --- | --- | --- | --- |"
+    assert lines[2] == (
+        f"| A - B | 10, 5 | 0.305 [-0.15, 0.76] | {p_text(base.p)} | "
+        f"{p_text(base.p_equivalence)} | {base.seeds_for_power} | {base.verdict} |"
+    )
+    # no comparison: the default level; several levels or margins: each row
+    # says its margin, the header names neither
+    assert "HL shift [95 % CI]" in pairs_table([]).splitlines()[0]
+    other = compare_samples(HW_X, HW_Y, margin=0.25, confidence=0.8)
+    lines = pairs_table([base, other]).splitlines()
+    assert "| HL shift [CI] |" in lines[0] and "| TOST p vs ±margin |" in lines[0]
+    assert f"| {p_text(base.p_equivalence)} (±0.5) |" in lines[2]
+    assert f"| {p_text(other.p_equivalence)} (±0.25) |" in lines[3]
+    plain = compare_samples(HW_X, HW_Y)
+    assert "| - | - |" in pairs_table([plain, base]).splitlines()[2]
+
+
+def test_each_function_names_its_bad_sample_or_parameter():
+    for f in (tost, pooled_spread):
+        args = (1.0,) if f is tost else ()
+        with pytest.raises(ValueError, match="sample 'a' needs"):
+            f([1.0], [1.0, 2.0], *args)
+        with pytest.raises(ValueError, match="sample 'b' needs"):
+            f([1.0, 2.0], [1.0], *args)
+    with pytest.raises(ValueError, match="sample 'A' needs"):
+        compare_samples([1.0], [1.0, 2.0])
+    for bad in (0.0, 1.0, 1.5):
+        with pytest.raises(
+            ValueError, match=f"confidence must be in \\(0, 1\\), got {bad}"
+        ):
+            hodges_lehmann(HW_X, HW_Y, bad)
+    for bad in (-1.0, math.nan):
+        with pytest.raises(
+            ValueError, match=f"spread must be a finite number >= 0, got {bad}"
+        ):
+            seeds_for_power(bad, 1.0)
+    for name in ("alpha", "power"):
+        for bad in (0.0, 1.0, 1.5):
+            with pytest.raises(
+                ValueError, match=f"{name} must be in \\(0, 1\\), got {bad}"
+            ):
+                seeds_for_power(1.0, 1.0, **{name: bad})
+
+
+def test_without_scipy_the_rank_tests_say_what_to_install(monkeypatch):
+    import sys
+
+    from locustjump.errors import UserError
+
+    monkeypatch.setitem(sys.modules, "scipy", None)  # import scipy fails
+    with pytest.raises(UserError) as e:
+        compare_samples(HW_X, HW_Y)
+    assert str(e.value) == (
+        "the rank tests need SciPy: pip install -e '.[study]' in the clone"
+    )

@@ -295,15 +295,13 @@ def compare_samples(
 
     ``a`` and ``b`` are :class:`Sample` s or numbers; ``names`` label them
     (default: the samples' labels, else ``A`` and ``B``). ValueError naming
-    a sample of fewer than 2 values, or a margin not > 0.
+    a sample of fewer than 2 values, or a margin not > 0 (:func:`tost`).
     """
     if names is None:
         names = (
             a.label if isinstance(a, Sample) else "A",
             b.label if isinstance(b, Sample) else "B",
         )
-    if margin is not None and not (math.isfinite(margin) and margin > 0):
-        raise ValueError(f"margin must be a finite number > 0, got {margin}")
     x, y = _values(a, names[0]), _values(b, names[1])
     shift, low, high = hodges_lehmann(x, y, confidence)
     r = _scipy_stats().mannwhitneyu(x, y, alternative="two-sided")
