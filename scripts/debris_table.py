@@ -76,6 +76,7 @@ from locustjump import rundir
 from locustjump.present.compare import TOTAL_LABEL, convergence_figure, load_groups
 from locustjump.present.episodes import episode_score
 from locustjump.runs.multiseed import parse_seeds
+from locustjump.runs.study_table import late_gain
 from locustjump.sim import model as lm
 from locustjump.sim.analysis import find_jumps, stuck_overturned
 from locustjump.sim.engine.backends import ThreadBackend
@@ -206,12 +207,6 @@ def summary(label: str, rows: list[dict]) -> dict:
         "wall_contact": float(np.mean([r["wall_contact"] for r in rows])),
         "penetration_m": float(max(r["penetration_m"] for r in rows)),  # any terrain
     }
-
-
-def late_gain(best: np.ndarray) -> float:
-    """How much of its final best fitness a run gained in its last third of
-    generations (0: the learning curve was flat by then)."""
-    return float((best[-1] - best[len(best) * 2 // 3 - 1]) / abs(best[-1]))
 
 
 def flat_floor(

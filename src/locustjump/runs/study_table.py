@@ -64,10 +64,14 @@ CURRENCY_COLUMN = {"evaluations": "evaluations", "control-steps": "control_steps
 
 def late_gain(best: np.ndarray) -> float:
     """The share of its final best fitness a run gained over its last third of
-    generations (0: its learning curve was flat by then)."""
-    if len(best) < 3 or best[-1] == 0:
+    generations (0: its learning curve was flat by then), ``best`` each
+    generation's best: the curve is the best so far, as the learning figure
+    draws it, so an optimizer that keeps no elite (random search, CMA-ES)
+    gains no less than 0."""
+    so_far = np.maximum.accumulate(np.asarray(best, dtype=float))
+    if len(so_far) < 3 or so_far[-1] == 0:
         return 0.0
-    return float((best[-1] - best[len(best) * 2 // 3 - 1]) / abs(best[-1]))
+    return float((so_far[-1] - so_far[len(so_far) * 2 // 3 - 1]) / abs(so_far[-1]))
 
 
 def spent(study: Study, arm: Arm, seed: int) -> dict[str, int]:
