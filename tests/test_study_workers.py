@@ -6,11 +6,12 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from helpers import assert_same_run
 from locustjump import rundir
-from locustjump.runs.study import _next_run, run_study, states, status
+from locustjump.runs.study import _duration, _next_run, run_study, states, status
 from locustjump.runs.studyfile import load_study
 from locustjump.runs.trainer import train
 from locustjump.sim.engine.backends import ThreadBackend
@@ -168,3 +169,30 @@ def test_a_run_made_between_the_look_and_the_lock_is_left_to_its_maker(
     final, lines = _run_releasing(study, holder)
     assert any("rcga, seed 0: left to its trainer" in ln for ln in lines), lines
     assert all(st.finished for st in final)
+
+
+def test_status_says_what_is_left_at_the_pace_of_its_trainers(tmp_path):
+    """rcga seed 0 stopped after 2 of 4 generations: with no process on it,
+    --status says so; held by one, it gives the time left at that run's
+    pace (its generations' median control steps/s)."""
+    study = _study(tmp_path, "example", "0")
+    arm = study.arms["rcga"]
+    run = arm.run_dir(0)
+    train(arm.config(0), run, progress=False, stop_after=2)
+    now = states(study)
+    left = sum(st.steps_left for st in now)
+    assert left == 6 * now[0].steps_per_generation  # rcga's 2 left, random's 4
+    assert status(study).endswith(
+        f"0 of 2 runs done, {left:,} control steps left; no process is training it now"
+    )
+    rate = float(np.median(rundir.read_metrics(run / rundir.METRICS)["steps_per_s"]))
+    holder = _hold(run)
+    try:
+        last = status(study).splitlines()[-1]
+    finally:
+        _release(holder)
+    assert last == (
+        f"0 of 2 runs done, {left:,} control steps left: about "
+        f"{_duration(left / rate)} at the pace of the 1 process training it now "
+        f"({rate:,.0f} control steps/s; scoring not counted)"
+    )

@@ -354,7 +354,9 @@ def _load() -> float:
 
 def status(study: Study) -> str:
     """What is done: per arm, each seed's generations done of its budget, and
-    which runs a process is training now (``102/120, process 1234``)."""
+    which runs a process is training now (``102/120, process 1234``); then
+    the control steps left and how long they take at the pace of the
+    processes training the study now (:func:`pace`)."""
     rows = states(study)
     seeds = study.seeds
     lines = [
@@ -366,8 +368,42 @@ def status(study: Study) -> str:
         row = [cells[arm.seed_of(s)] for s in seeds]
         lines.append(f"| {arm.name} | " + " | ".join(row) + " |")
     done = sum(r.finished for r in rows)
-    lines.append(f"\n{done} of {len(rows)} runs done")
+    left = sum(r.steps_left for r in rows)
+    line = f"\n{done} of {len(rows)} runs done"
+    if left:
+        line += f", {_steps(left)} control steps left"
+        n, rate = pace(rows)
+        who = f"{n} process{'es' if n > 1 else ''}"
+        if rate:
+            line += (f": about {_duration(left / rate)} at the pace of the {who} "
+                     f"training it now ({rate:,.0f} control steps/s; scoring "
+                     "not counted)")  # fmt: skip
+        elif n:
+            line += f"; {who} training it now, no generation timed yet"
+        else:
+            line += "; no process is training it now"
+    lines.append(line)
     return "\n".join(lines)
+
+
+#: generations of a run whose pace :func:`pace` reads (its latest)
+PACE_GENERATIONS = 10
+
+
+def pace(rows: list[RunState]) -> tuple[int, float]:
+    """The processes training runs of ``rows`` now, and their control steps a
+    second together: each one's median over its run's latest
+    :data:`PACE_GENERATIONS` generations (``metrics.csv``; 0 for a run
+    that has none yet)."""
+    n, rate = 0, 0.0
+    for r in rows:
+        if r.finished or not rundir.in_use(r.path):
+            continue
+        n += 1
+        if r.done:
+            m = rundir.read_metrics(r.path / rundir.METRICS)
+            rate += float(np.median(m["steps_per_s"][-PACE_GENERATIONS:]))
+    return n, rate
 
 
 def _cell(r: RunState) -> str:
