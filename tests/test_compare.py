@@ -188,3 +188,18 @@ def test_total_budget_counts_the_frozen_runs(tmp_path, monkeypatch, capsys):
     shutil.copytree(DEBRIS / "kick", lone.parent / "kick")
     err = (exit_status(argv), capsys.readouterr().err)
     assert err[0] == 2 and "getup run" in err[1] and not fig.exists()
+
+
+def test_total_budget_counts_a_repertoires_run_once(tmp_path, monkeypatch):
+    """A switcher over 8 elites of one kick archive: the archive's run is
+    spent once, not once per elite (the study table's count)."""
+    study = ROOT / "results" / "study"
+    src = tmp_path / "runs" / "studies" / "repertoire-composition"
+    for arm in ("kick-repertoire", "getup", "return-legs"):
+        shutil.copytree(study / f"repertoire-{arm}-s0", src / arm / "seed-0")
+    monkeypatch.chdir(tmp_path)  # where frozen.npz says they came from
+    run = study / "repertoire-s0"
+    simples = sum(_evaluations(src / a / "seed-0")
+                  for a in ("kick-repertoire", "getup", "return-legs"))  # fmt: skip
+    (total,) = load_groups([run], "behaviour", total_budget=True)
+    assert total.evaluations[0] == _evaluations(run) + simples

@@ -106,11 +106,14 @@ def frozen_evaluations(run: Path, cfg: TrainConfig) -> int:
     (0 for a behaviour built on none). Each is found where ``frozen.npz``
     says it came from (relative to the working directory) or beside ``run``
     (``DIR/<behaviour>`` of one reproduction), and must have the config hash
-    recorded there; ``UserError`` naming it when neither holds it."""
+    recorded there; ``UserError`` naming it when neither holds it. A run
+    several frozen behaviours come from (a repertoire's elites) counts
+    once."""
     frozen = rundir.frozen_of(cfg, run)
     if frozen is None:
         return 0
     total = 0
+    counted: set[Path] = set()  # a repertoire's elites share one run
     recorded = zip(frozen.behaviours, frozen.sources, frozen.hashes, strict=True)
     for name, source, digest in recorded:
         places = (Path(source), run.parent / name)
@@ -121,6 +124,9 @@ def frozen_evaluations(run: Path, cfg: TrainConfig) -> int:
                 f"it builds on (config hash {digest}), neither at {source} nor at "
                 f"{run.parent / name}"
             )
+        if found[0].resolve() in counted:
+            continue
+        counted.add(found[0].resolve())
         metrics = rundir.read_metrics(found[0] / rundir.METRICS)
         total += int(metrics["evaluations"].sum())
     return total
