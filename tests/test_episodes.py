@@ -152,3 +152,20 @@ def test_the_contact_audit_script_reports_score_run(debris_run, tmp_path, capsys
     assert row["deepest"]["depth_m"] == s.penetration_m
     assert row["terrains_over_gate"] == int(s.penetration_m > 0.05 * BL)
     assert "| " + str(debris_run) in capsys.readouterr().out
+
+
+def test_a_run_scored_at_its_worst_resolution_is_judged_at_a_given_one_alone():
+    """A composed run evolved on the worst of 3 and 6 substeps: as trained its
+    score is that worst (its recorded fitness); at 3 substeps it is the fitness
+    there alone, whose terms add up to it."""
+    run = rundir.SHIPPED / "study" / "composed-apex-robust6-p10-s0"
+    cfg = rundir.load_config(run / rundir.CONFIG)
+    assert cfg.options.score_substeps == (6,) and cfg.model.substeps == 3
+    (trained,) = score_run(run)
+    (at3,) = score_run(run, substeps=3)
+    (at6,) = score_run(run, substeps=6)
+    recorded = rundir.BestGenome.load(run / rundir.BEST).fitness
+    assert trained.fitness == recorded == min(at3.fitness, at6.fitness)
+    assert at3.fitness != at6.fitness
+    for s in (at3, at6):
+        assert s.height_term + s.distance_term == s.fitness

@@ -26,6 +26,7 @@ Example::
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 import os
 from collections.abc import Sequence
@@ -58,9 +59,11 @@ class EpisodeScore:
     mean, ``jumps`` their sum, ``wall_contact`` the share over all their
     control steps and the maxima over all of them. An episode that went
     unstable counts up to its last simulated step. A run with the option
-    ``score_substeps`` is scored as it trained, the minimum over those
-    resolutions, while the terms and the other figures are of the episode
-    simulated at ``substeps``: only there may the terms not add up to it.
+    ``score_substeps`` is scored as it trained (the minimum over those
+    resolutions) where :func:`score_run` is given no ``substeps``, and at
+    the ``substeps`` it is given alone otherwise; the terms and the other
+    figures are of the episode simulated at ``substeps``, so only as trained
+    may the terms not add up to the fitness.
     """
 
     #: debris terrain seed; None on a scene without terrains (the flat floor)
@@ -108,7 +111,9 @@ def score_run(
       terrain_seeds: terrain seeds of the run's own scene kind and parameters
         (``scene``'s if given); None: the run's own terrains (its training
         terrains; one score on the flat floor).
-      substeps: physics substeps per control step; None: as trained.
+      substeps: physics substeps per control step; None: as trained (a run
+        with ``score_substeps``: the worst of its resolutions, as it was
+        scored in training; given, the fitness at these substeps alone).
       scene: another scene kind and parameters than the run's (e.g. a flat-
         floor run zero-shot on ``Debris()``).
       backend: where to simulate (default: a thread backend, this call only).
@@ -128,6 +133,9 @@ def score_run(
         if isinstance(substeps, bool) or not isinstance(substeps, int):
             raise ValueError(f"substeps must be an integer, got {substeps!r}")
         p = dataclasses.replace(p, substeps=substeps)
+        if beh.options.score_substeps:  # judged at these substeps alone
+            beh = copy.copy(beh)
+            beh.options = dataclasses.replace(beh.options, score_substeps=())
     scenes = _scenes(beh, terrain_seeds, scene)
     own = backend is None
     backend = ThreadBackend() if backend is None else backend

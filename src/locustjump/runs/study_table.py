@@ -100,8 +100,11 @@ def _key(path: Path, substeps: int | None, terrains: tuple[int, ...] | None) -> 
     genome = hashlib.sha256(
         np.ascontiguousarray(best.genome, "<f8").tobytes()
     ).hexdigest()[:16]
-    return json.dumps([SCORES_VERSION, cfg.hash(), genome, substeps,
-                       None if terrains is None else list(terrains)])  # fmt: skip
+    key = [SCORES_VERSION, cfg.hash(), genome, substeps,
+           None if terrains is None else list(terrains)]  # fmt: skip
+    if substeps is not None and getattr(cfg.options, "score_substeps", ()):
+        key.append("alone")  # since 2026-11-26 (no longer the worst of them)
+    return json.dumps(key)
 
 
 def scores(
