@@ -56,9 +56,10 @@ names the geoms).
 The held-out mean of a run is the mean of its fitness over the terrains
 (as ``locustjump evaluate RUN --terrain-seeds`` computes, which it equals at
 the training physics); the gap is its training fitness minus that, at the
-training physics only. "Gain in the last third": the share of its final
-best fitness a run gained over its last third of generations (near 0: its
-learning curve had flattened).
+training physics only. "Gain in the last third": the share of a run's whole
+improvement made in its last third of generations (near 0: its learning
+curve had flattened; ``runs.study_table.late_gain``; the tables shipped in
+results/debris*/ before 2026-11-26 give the share of the final fitness).
 """
 
 from __future__ import annotations

@@ -1,5 +1,6 @@
-"""The table's "gain in the last third": the share of a run's final best so
-far that it gained over its last third of generations."""
+"""The table's "gain in the last third": the share of a run's whole
+improvement (its best so far, first generation to last) made in its last
+third of generations."""
 
 import numpy as np
 import pytest
@@ -10,11 +11,13 @@ from locustjump.runs.study_table import late_gain
 def test_an_elitist_curve():
     # 9 generations: the last third is generations 7-9, measured from gen 6
     best = np.array([1.0, 2, 3, 4, 5, 8, 8, 9, 10])
-    assert late_gain(best) == pytest.approx((10 - 8) / 10)
-    assert late_gain(np.full(9, 5.0)) == 0.0
+    assert late_gain(best) == pytest.approx((10 - 8) / (10 - 1))
+    assert late_gain(np.full(9, 5.0)) == 0.0  # never improved
     # 183 generations (the debris study's one network): from generation 122
     best = np.arange(1.0, 184.0)
-    assert late_gain(best) == pytest.approx((183 - 122) / 183)
+    assert late_gain(best) == pytest.approx((183 - 122) / (183 - 1))
+    # an offset changes nothing: a share of the improvement
+    assert late_gain(best + 1000.0) == pytest.approx(late_gain(best))
 
 
 def test_without_an_elite_the_curve_is_the_best_so_far():
@@ -23,11 +26,12 @@ def test_without_an_elite_the_curve_is_the_best_so_far():
     best = np.array([1.0, 9, 2, 3, 4, 2, 5, 3, 1])
     assert late_gain(best) == 0.0  # 9 was found in generation 2
     best = np.array([1.0, 2, 3, 4, 5, 6, 2, 7, 3])
-    assert late_gain(best) == pytest.approx((7 - 6) / 7)
+    assert late_gain(best) == pytest.approx((7 - 6) / (7 - 1))
 
 
 def test_negative_fitness_and_short_runs():
-    # fitness below zero (return-legs): improving from -2 to -1 is a gain
-    assert late_gain(np.array([-4.0, -3, -2, -2, -2, -2, -2, -1.5, -1])) == 1.0
+    # fitness below zero (return-legs): from -4 to -1, the last 0.5 of 3 late
+    best = np.array([-4.0, -3, -2, -2, -2, -1.5, -1.5, -1.2, -1])
+    assert late_gain(best) == pytest.approx(0.5 / 3)
     assert late_gain(np.array([1.0, 2.0])) == 0.0  # no third to speak of
     assert late_gain(np.array([0.0, 0.0, 0.0])) == 0.0  # nothing gained

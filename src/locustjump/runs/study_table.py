@@ -7,8 +7,8 @@ episode, on each held-out terrain of the study's evaluation (or its own
 scene), at each physics resolution asked for; the sample is the mean over
 terrains. Beside it, per arm: the budget each run spent in all — genome
 evaluations and control steps, the frozen runs it builds on included — the
-training fitness and the gap to the held-out score, the share of its final
-fitness gained in the last third of its generations (near 0: its learning
+training fitness and the gap to the held-out score, the share of its whole
+improvement made in the last third of its generations (near 0: its learning
 curve had flattened), and, from the episodes (:mod:`locustjump.present.
 episodes`), what can reveal an exploit: the height and distance terms of
 the fitness apart, the share of steps touching a wall, the deepest
@@ -63,15 +63,19 @@ CURRENCY_COLUMN = {"evaluations": "evaluations", "control-steps": "control_steps
 
 
 def late_gain(best: np.ndarray) -> float:
-    """The share of its final best fitness a run gained over its last third of
-    generations (0: its learning curve was flat by then), ``best`` each
-    generation's best: the curve is the best so far, as the learning figure
-    draws it, so an optimizer that keeps no elite (random search, CMA-ES)
-    gains no less than 0."""
+    """The share of a run's whole improvement made in its last third of
+    generations: of its best so far, (last - at two thirds) / (last -
+    first); 0 where it was flat by then or never improved, 1 where all of it
+    came late. ``best`` is each generation's best; the curve is the best so
+    far, as the learning figure draws it, so an optimizer that keeps no
+    elite (random search, CMA-ES) gains no less than 0; a share of the
+    improvement, not of the final fitness, reads the same for fitness below
+    0 (return-legs) or offset by a constant."""
     so_far = np.maximum.accumulate(np.asarray(best, dtype=float))
-    if len(so_far) < 3 or so_far[-1] == 0:
+    whole = so_far[-1] - so_far[0] if len(so_far) >= 3 else 0.0
+    if whole <= 0:
         return 0.0
-    return float((so_far[-1] - so_far[len(so_far) * 2 // 3 - 1]) / abs(so_far[-1]))
+    return float((so_far[-1] - so_far[len(so_far) * 2 // 3 - 1]) / whole)
 
 
 def spent(study: Study, arm: Arm, seed: int) -> dict[str, int]:
