@@ -378,3 +378,18 @@ def test_a_study_file_that_is_not_a_file(tmp_path):
     (tmp_path / "dir.toml").mkdir()
     r = run_cli("study", str(tmp_path / "dir.toml"), "--status")
     assert r.returncode == 2 and "not a regular file" in r.stderr
+
+
+def test_the_plan_counts_what_a_generation_and_a_score_simulate(monkeypatch):
+    """A run evolved on the worst of 3 and 6 substeps simulates each genome
+    twice: the plan's control steps a generation are what its first
+    generation logged (all 50 genomes evaluated); scored on its own scene
+    at given substeps, once per resolution."""
+    from locustjump.runs.study import states
+
+    monkeypatch.chdir(REPO)
+    study = load_study("studies/composed-robust.toml")
+    robust = [st for st in states(study) if st.arm == "apex-robust6-p10"]
+    m = rundir.read_metrics(robust[0].path / rundir.METRICS)
+    assert robust[0].steps_per_generation == m["control_steps"][0] == 2 * 50 * 3000
+    assert robust[0].eval_steps == 3 * 3000  # 3, 6 and 12 substeps, one episode

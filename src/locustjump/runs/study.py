@@ -90,9 +90,14 @@ def behaviour_for(cfg: TrainConfig) -> Behaviour:
 
 
 def episode_steps(cfg: TrainConfig, beh: Behaviour | None = None) -> int:
-    """Control steps to score one genome: start states x terrains x episode."""
+    """Control steps to score one genome in training: start states x
+    terrains x episode, once more at each resolution of the option
+    ``score_substeps`` (the genome is scored as its worst of them)."""
     beh = behaviour_for(cfg) if beh is None else beh
-    return len(beh.start_states(cfg.model)) * cfg.scene.count * beh.n_steps
+    resolutions = 1 + len(beh.options.score_substeps)
+    return (
+        len(beh.start_states(cfg.model)) * cfg.scene.count * beh.n_steps * resolutions
+    )
 
 
 def generations_done(path: Path) -> int:
@@ -110,9 +115,14 @@ def states(study: Study) -> list[RunState]:
         if arm.name not in per_eval:
             cfg = arm.config(seed)
             beh = behaviour_for(cfg)
-            terrains = len(study.evaluation.terrain_seeds or (None,))
-            score = len(beh.start_states(cfg.model)) * beh.n_steps * terrains
-            score *= len(study.evaluation.substeps) if arm.score else 0
+            # scored on the held-out terrains, or on its own (all of them);
+            # "as trained" (None) with score_substeps re-simulates those too
+            ev = study.evaluation
+            terrains = len(ev.terrain_seeds) if ev.terrain_seeds else cfg.scene.count
+            one = len(beh.start_states(cfg.model)) * beh.n_steps * terrains
+            extra = len(beh.options.score_substeps)
+            score = sum(one * (1 + extra * (s is None)) for s in ev.substeps)
+            score *= arm.score
             per_eval[arm.name] = (cfg.population * episode_steps(cfg, beh), score)
         gen, score = per_eval[arm.name]
         path = arm.run_dir(seed)
