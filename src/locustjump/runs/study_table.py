@@ -104,9 +104,10 @@ def _key(path: Path, substeps: int | None, terrains: tuple[int, ...] | None) -> 
     genome = hashlib.sha256(
         np.ascontiguousarray(best.genome, "<f8").tobytes()
     ).hexdigest()[:16]
-    key = [SCORES_VERSION, cfg.hash(), genome, substeps,
-           None if terrains is None else list(terrains)]  # fmt: skip
-    if substeps is not None and getattr(cfg.options, "score_substeps", ()):
+    key: list[Any] = [SCORES_VERSION, cfg.hash(), genome, substeps,
+                      None if terrains is None else list(terrains)]  # fmt: skip
+    robust = bool(getattr(cfg.options, "score_substeps", None))
+    if substeps is not None and robust:
         key.append("alone")  # since 2026-11-26 (no longer the worst of them)
     return json.dumps(key)
 
