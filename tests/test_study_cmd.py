@@ -74,6 +74,31 @@ def test_dry_run_says_when_its_rates_were_measured_on_a_busy_machine(
     assert (note in text) == (load >= 0.5), text.splitlines()[-1]
 
 
+def test_dry_run_times_each_scoring_resolution_at_its_own_rate(tmp_path, monkeypatch):
+    """Scoring at 12 substeps is slower than at the 3 a run trained at: the
+    plan measures each resolution's rate and times its share at that rate."""
+    import locustjump.runs.study as st
+
+    rates = {None: 1000.0, 12: 250.0}
+    seen = []
+
+    def rate(cfg, backend, substeps=None):
+        seen.append(substeps)
+        return rates[substeps]
+
+    monkeypatch.setattr(st, "throughput", rate)
+    path = example(tmp_path)
+    path.write_text(path.read_text() + "\n[evaluation]\nsubsteps = [3, 12]\n")
+    study = load_study(path)
+    text = st.dry_run(study, backend=None)
+    arm = study.arms["rcga"]
+    steps = st.score_steps(study, arm.base, st.behaviour_for(arm.base))
+    assert set(steps) == {3, 12} and steps[3] == steps[12]
+    per_arm = 5 * steps[3] / 1000.0 + 5 * steps[12] / 250.0  # 5 seeds
+    assert f"(its own scene x 2 physics): {st._duration(2 * per_arm)} " in text
+    assert seen == [None, 12, None, 12]  # each arm: as trained, then at 12
+
+
 def test_each_run_is_the_run_train_makes(finished, tmp_path):
     path, r, _ = finished
     study = load_study(path)

@@ -100,6 +100,19 @@ def episode_steps(cfg: TrainConfig, beh: Behaviour | None = None) -> int:
     )
 
 
+def score_steps(
+    study: Study, cfg: TrainConfig, beh: Behaviour
+) -> dict[int | None, int]:
+    """Control steps of scoring one run of ``cfg`` at each of the study's
+    resolutions: on the held-out terrains, or on its own (all of them); as
+    trained (None), a run with ``score_substeps`` re-simulates those too."""
+    ev = study.evaluation
+    terrains = len(ev.terrain_seeds) if ev.terrain_seeds else cfg.scene.count
+    one = len(beh.start_states(cfg.model)) * beh.n_steps * terrains
+    extra = len(beh.options.score_substeps)
+    return {s: one * (1 + extra * (s is None)) for s in ev.substeps}
+
+
 def generations_done(path: Path) -> int:
     """Generations in the run directory ``path`` (0 if there is none)."""
     if not rundir.is_run(path) or not (path / rundir.METRICS).is_file():
@@ -115,14 +128,7 @@ def states(study: Study) -> list[RunState]:
         if arm.name not in per_eval:
             cfg = arm.config(seed)
             beh = behaviour_for(cfg)
-            # scored on the held-out terrains, or on its own (all of them);
-            # "as trained" (None) with score_substeps re-simulates those too
-            ev = study.evaluation
-            terrains = len(ev.terrain_seeds) if ev.terrain_seeds else cfg.scene.count
-            one = len(beh.start_states(cfg.model)) * beh.n_steps * terrains
-            extra = len(beh.options.score_substeps)
-            score = sum(one * (1 + extra * (s is None)) for s in ev.substeps)
-            score *= arm.score
+            score = sum(score_steps(study, cfg, beh).values()) * arm.score
             per_eval[arm.name] = (cfg.population * episode_steps(cfg, beh), score)
         gen, score = per_eval[arm.name]
         path = arm.run_dir(seed)
@@ -317,7 +323,13 @@ def dry_run(study: Study, backend: Backend, where: str = "threads") -> str:
         cfg = arm.base
         rate = throughput(cfg, backend)
         left = sum(r.steps_left for r in mine)
-        scoring = sum(r.eval_steps for r in mine) / rate
+        scoring = 0.0
+        if arm.score:  # each resolution at its own rate (12 substeps: ~4x slower)
+            beh = behaviour_for(cfg)
+            for sub, steps in score_steps(study, cfg, beh).items():
+                same = sub is None or sub == cfg.model.substeps
+                at = rate if same else throughput(cfg, backend, sub)
+                scoring += len(mine) * steps / at
         train_s += left / rate
         score_s += scoring
         partial = sum(0 < r.done and not r.finished for r in mine)
