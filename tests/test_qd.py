@@ -28,6 +28,7 @@ from locustjump.runs.trainer import train
 from locustjump.sim import model as lm
 from locustjump.sim.engine.backends import ThreadBackend
 from locustjump.sim.engine.job import RolloutResult
+from locustjump.sim.scene import Debris, Terrains
 from locustjump.tasks import Kick, get_behaviour
 from locustjump.tasks.kick import kick_descriptors
 from locustjump.tasks.reference import run_rules
@@ -433,3 +434,18 @@ def test_cma_me_gives_the_same_genomes_on_any_number_of_blas_threads():
                            capture_output=True, text=True, check=True)  # fmt: skip
         out.append(r.stdout.strip())
     assert out[0] == out[1]
+
+
+def test_an_elite_of_a_repertoire_trained_on_several_terrains(tmp_path):
+    """Its descriptors, like its fitness, are over every training terrain, as
+    recorded (they crashed on the first terrain's episodes alone)."""
+    out = tmp_path / "run"
+    cfg = TrainConfig(generations=1, seed=1, optimizer=MapElitesParams(population=4),
+                      scene=Terrains(Debris(seed=0), count=2))  # fmt: skip
+    train(cfg, out, progress=False)
+    ev = tmp_path / "ev"
+    r = run_cli("evaluate", str(out), "--elite", "0", "--json", "--out", str(ev))
+    assert r.returncode == 0, r.stderr
+    got = json.loads(r.stdout)
+    assert got["fitness"] == got["recorded_fitness"]
+    assert got["descriptors"] == got["recorded_descriptors"]

@@ -76,8 +76,9 @@ def evaluate_run(
     shipped run under ``results/``: ``runs/shipped/<same path>/eval/``,
     :func:`locustjump.rundir.derived_dir`). On the run's training terrains,
     or in ``scene`` if given (then its fitness need not be the recorded one).
-    Trained on several terrains, its fitness is theirs combined (as
-    recorded); its metrics and figures are of the first.
+    Trained on several terrains, its fitness (and a quality-diversity
+    elite's descriptors) are theirs combined (as recorded); its metrics and
+    figures are of the first.
 
     ``elite``/``cell``: a quality-diversity run's ``elite``-th best elite, or
     the one in grid cell ``cell``, in place of the best genome (default
@@ -111,7 +112,11 @@ def evaluate_run(
         best.genome[None], p, backend=backend, engine=cfg.engine,
         record=beh.eval_record, label=f"evaluate {cfg.behaviour}",
     )  # fmt: skip
-    # fitness: over every training terrain; metrics, figures: the first one's
+    here = None
+    if isinstance(best, rundir.Elite):  # where it sits, as re-simulated: over
+        here = beh.describe(res, p, best.names)[0]  # every terrain, as trained
+    # fitness, descriptors: over every training terrain; metrics, figures: the
+    # first one's
     res = res.head(len(beh.start_states(p)))
     reference = beh.reference(p, backend=backend, engine=cfg.engine)
     metrics = beh.metrics(res, p, best.genome, reference)
@@ -119,8 +124,7 @@ def evaluate_run(
     done = _write(
         cfg, best, episodes, float(fit[0]), plain(metrics), Path(eval_dir), elsewhere
     )
-    if isinstance(best, rundir.Elite):  # where it sits, as re-simulated
-        here = beh.describe(res, p, best.names)[0]
+    if isinstance(best, rundir.Elite) and here is not None:
         done.descriptors = dict(zip(best.names, map(float, here), strict=True))
         done.recorded_descriptors = dict(zip(best.names, best.descriptors, strict=True))
     return done

@@ -6,6 +6,15 @@
   ``dx, dz`` the body centre's displacement from its start position: the area
   of the rectangle from the start point to the highest-and-furthest point of
   the jump. Unit: m^2.
+* behaviour descriptors (quality diversity, :data:`KICK_DESCRIPTORS`), from
+  the same body-centre trajectory, at the apex (the step of greatest
+  height): ``apex_rise``, its height over the start (body lengths, 0 to 5);
+  ``apex_distance``, its distance ahead (body lengths, -5 to 15);
+  ``apex_angle``, its direction from the start, ``atan2(rise, ahead)``
+  (degrees, 0 to 180). Each is the mean over start states and terrains, as
+  the fitness; an unstable episode counts at each descriptor's low end
+  (``tasks.descriptors``), and an archive clips a value outside its range
+  to the edge cell.
 """
 
 from __future__ import annotations
