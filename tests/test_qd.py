@@ -191,6 +191,18 @@ def test_an_archive_ranks_its_elites_and_finds_a_cell():
     assert a.in_cell_order().index.tolist() == [0, 3, 5]
 
 
+def test_the_heatmap_title_gives_the_qd_score_less_the_runs_offset():
+    from matplotlib.figure import Figure
+
+    from locustjump.present.plots import draw_archive
+
+    for offset, score in ((0.0, "3"), (1.0, "0"), (-2.0, "9")):
+        fig = Figure()
+        ax = fig.add_subplot()
+        draw_archive(fig, ax, _archive(), qd_offset=offset)
+        assert f"coverage 50%, QD score {score}" in ax.get_title()
+
+
 # --- the kick's behaviour descriptors -----------------------------------------
 
 

@@ -77,8 +77,9 @@ class QDParams:
     #: (low, high) of the grid per descriptor, in the descriptor's unit
     ranges: tuple[tuple[float, float], ...] = field(default=(), metadata=_RANGES)
     cells: tuple[int, ...] = ()  # cells of the grid per descriptor
-    #: subtracted from every elite's fitness in the QD score (the task's
-    #: lowest fitness: pyribs' qd_score_offset)
+    #: subtracted from every elite's fitness in the QD score (pyribs'
+    #: qd_score_offset): set it to the task's lowest fitness so that every
+    #: elite adds (the kick's is 0, the default)
     qd_offset: float = setting(0.0, Range())
 
     def __post_init__(self) -> None:

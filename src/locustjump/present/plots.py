@@ -264,11 +264,12 @@ def archive_heatmap(
     *,
     units: dict[str, str] | None = None,
     title: str = "",
+    qd_offset: float = 0.0,
 ) -> None:
     """A grid archive's elites (:class:`~locustjump.evo.archive.Archive`) as a
     heatmap (:func:`draw_archive`), written to ``path``."""
     fig, ax = subplots(figsize=(6.4, 5.0))
-    draw_archive(fig, ax, archive, units=units, title=title)
+    draw_archive(fig, ax, archive, units=units, title=title, qd_offset=qd_offset)
     _save(fig, path)
 
 
@@ -279,12 +280,14 @@ def draw_archive(
     *,
     units: dict[str, str] | None = None,
     title: str = "",
+    qd_offset: float = 0.0,
 ) -> None:
     """On ``ax`` of ``fig``: a grid archive's elites as a heatmap, fitness
     colour per cell of the first two descriptors (x, y), empty cells blank;
     with one descriptor, one row; with more, each cell of the first two shows
     the best over the others. Top and right axes: the cell indices (``--cell
-    i,j``)."""
+    i,j``). The title's QD score subtracts ``qd_offset`` per elite (the run's
+    ``[optimizer] qd_offset``, as ``metrics.csv``'s)."""
     heat = archive.heat()
     if heat.ndim == 1:
         heat = heat[:, None]
@@ -320,7 +323,8 @@ def draw_archive(
     ax.set_title(
         (title + "\n" if title else "")
         + f"{len(archive)} elites, coverage {archive.coverage:.0%}, "
-        f"QD score {archive.qd_score():.4g}" + (more if len(archive.dims) > 2 else ""),
+        f"QD score {archive.qd_score(qd_offset):.4g}"
+        + (more if len(archive.dims) > 2 else ""),
         fontsize=9,
     )
 
@@ -336,6 +340,7 @@ def repertoire_composition_figure(
     units: dict[str, str] | None = None,
     title: str = "",
     suptitle: str = "",
+    qd_offset: float = 0.0,
 ) -> None:
     """A composition over a repertoire in one figure: left, the kick archive
     (:func:`draw_archive`) with each elite the switcher chooses among
@@ -352,7 +357,8 @@ def repertoire_composition_figure(
     fig = Figure(figsize=(13, 4.8), constrained_layout=True)
     grid = fig.add_gridspec(2, 2, width_ratios=[1.0, 1.45], height_ratios=[4, 1])
     ax = fig.add_subplot(grid[:, 0])
-    draw_archive(fig, ax, archive, units=units, title="the kick repertoire")
+    draw_archive(fig, ax, archive, units=units, title="the kick repertoire",
+                 qd_offset=qd_offset)  # fmt: skip
     colors = behaviour_colours(len(names))
     cells = archive.grid_index()[chosen]
     for i, cell in enumerate(cells):

@@ -12,6 +12,7 @@ import numpy as np
 from locustjump import rundir
 from locustjump.errors import UserError
 from locustjump.present.plots import archive_heatmap, repertoire_composition_figure
+from locustjump.rundir.config import TrainConfig
 from locustjump.sim.engine.backends import Backend
 from locustjump.tasks import ComposedRepertoire, behaviour_class
 
@@ -28,8 +29,14 @@ def archive_figure(out: Path, into: Path | None = None) -> Path | None:
     path = (out if into is None else into) / rundir.ARCHIVE_PNG
     units = {d.name: d.unit for d in behaviour_class(cfg.behaviour).descriptors}
     title = f"{cfg.behaviour}, {cfg.optimizer.kind} (seed {cfg.seed})"
-    archive_heatmap(path, archive, units=units, title=title)
+    archive_heatmap(path, archive, units=units, title=title,
+                    qd_offset=_offset(cfg))  # fmt: skip
     return path
+
+
+def _offset(cfg: TrainConfig) -> float:
+    """The run's QD score offset (``[optimizer] qd_offset``; 0 for others)."""
+    return float(getattr(cfg.optimizer, "qd_offset", 0.0))
 
 
 def composition_figure(
@@ -87,5 +94,6 @@ def composition_figure(
             f"{k} kick elites, getup and return-legs"
         ),
         suptitle=f"{kick} and {composed}",
+        qd_offset=_offset(kick_cfg),
     )
     return out

@@ -182,7 +182,7 @@ def _figures(d: Path, eval_dir: Path | None = None) -> list[Path]:
 
 #: a quality-diversity run's columns of metrics.csv, as the report names them
 _QD_COLUMNS = {
-    "qd_score": "QD score (sum of the elites' fitness)",
+    "qd_score": "QD score (sum of the elites' fitness less qd_offset each)",
     "coverage": "coverage (cells holding an elite)",
     "archive_best": "best elite's fitness",
 }
