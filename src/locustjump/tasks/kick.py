@@ -7,7 +7,8 @@
   of the rectangle from the start point to the highest-and-furthest point of
   the jump. Unit: m^2.
 * behaviour descriptors (quality diversity, :data:`KICK_DESCRIPTORS`), from
-  the same body-centre trajectory, at the apex (the step of greatest
+  the same body-centre trajectory (at the trained resolution: the option
+  ``score_substeps`` changes the fitness, not them), at the apex (the step of greatest
   height): ``apex_rise``, its height over the start (body lengths, 0 to 5);
   ``apex_distance``, its distance ahead (body lengths, -5 to 15);
   ``apex_angle``, its direction from the start, ``atan2(rise, ahead)``
