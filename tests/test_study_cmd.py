@@ -64,7 +64,7 @@ def test_dry_run_says_when_its_rates_were_measured_on_a_busy_machine(
 ):
     """Rates measured beside other work are low: the plan says so, with the
     load it saw (a study's own workers make the machine busy)."""
-    import locustjump.runs.study as st
+    import locustjump.runs.study_plan as st
     from locustjump.sim.engine.backends import ThreadBackend
 
     monkeypatch.setattr(st.os, "getloadavg", lambda: (load, 0.0, 0.0))
@@ -77,7 +77,7 @@ def test_dry_run_says_when_its_rates_were_measured_on_a_busy_machine(
 def test_dry_run_times_each_scoring_resolution_at_its_own_rate(tmp_path, monkeypatch):
     """Scoring at 12 substeps is slower than at the 3 a run trained at: the
     plan measures each resolution's rate and times its share at that rate."""
-    import locustjump.runs.study as st
+    import locustjump.runs.study_plan as st
 
     rates = {None: 1000.0, 12: 250.0}
     seen = []
@@ -95,7 +95,7 @@ def test_dry_run_times_each_scoring_resolution_at_its_own_rate(tmp_path, monkeyp
     steps = st.score_steps(study, arm.base, st.behaviour_for(arm.base))
     assert set(steps) == {3, 12} and steps[3] == steps[12]
     per_arm = 5 * steps[3] / 1000.0 + 5 * steps[12] / 250.0  # 5 seeds
-    assert f"(its own scene x 2 physics): {st._duration(2 * per_arm)} " in text
+    assert f"(its own scene x 2 physics): {st.format_duration(2 * per_arm)} " in text
     assert seen == [None, 12, None, 12]  # each arm: as trained, then at 12
 
 

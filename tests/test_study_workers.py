@@ -11,7 +11,8 @@ import pytest
 
 from helpers import assert_same_run
 from locustjump import rundir
-from locustjump.runs.study import _duration, _next_run, run_study, states, status
+from locustjump.runs.study import _next_run, format_duration, run_study, states
+from locustjump.runs.study_plan import status
 from locustjump.runs.studyfile import load_study
 from locustjump.runs.trainer import train
 from locustjump.sim.engine.backends import ThreadBackend
@@ -193,6 +194,6 @@ def test_status_says_what_is_left_at_the_pace_of_its_trainers(tmp_path):
         _release(holder)
     assert last == (
         f"0 of 2 runs done, {left:,} control steps left: about "
-        f"{_duration(left / rate)} at the pace of the 1 process training it now "
+        f"{format_duration(left / rate)} at the pace of the 1 process training it now "
         f"({rate:,.0f} control steps/s; scoring not counted)"
     )

@@ -8,7 +8,8 @@ import sys
 from locustjump import rundir
 from locustjump.cli.argtypes import _seeds
 from locustjump.cli.options import add_backend
-from locustjump.runs.study import dry_run, run_study, status
+from locustjump.runs.study import run_study
+from locustjump.runs.study_plan import dry_run, status
 from locustjump.runs.study_table import FIGURE, study_table
 from locustjump.runs.studyfile import load_study
 from locustjump.sim.engine.backends import make_backend
