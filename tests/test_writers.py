@@ -154,6 +154,26 @@ def test_two_writers_at_once(dirs, tmp_path, which):
         assert rundir.generations_done(out) == 1
 
 
+def test_reproduce_into_a_held_directory_mid_marker(tmp_path, capsys):
+    """The window the test below races through: the first writer holds the
+    directory and its marker is a temporary file still. The second is told
+    the directory is in use, not that it holds a stranger's files (CI caught
+    that wording once)."""
+    out = tmp_path / "rep"
+    out.mkdir()
+    (out / f".{rundir.MARKER}.tmp").write_text("half")
+    holder = _held(out)
+    try:
+        code = main(["reproduce", "--quiet", "--threads", "1", "--out", str(out)])
+    finally:
+        holder.kill()
+        holder.wait()
+    err = capsys.readouterr().err
+    assert code == 2 and f"is in use by process {holder.pid}" in err, err
+    assert len(err.strip().splitlines()) == 1, err
+    assert sorted(p.name for p in out.iterdir()) == [f".{rundir.MARKER}.tmp"]
+
+
 def test_two_reproductions_at_once(tmp_path):
     """The second of two ``reproduce`` into one directory stops at the lock;
     the first is then stopped (a quick reproduction takes minutes)."""

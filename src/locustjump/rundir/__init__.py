@@ -66,7 +66,7 @@ from locustjump.rundir.layout import (
     is_run,
     seed_dir,
 )
-from locustjump.rundir.lock import InUse, in_use, locked
+from locustjump.rundir.lock import InUse, check_not_in_use, in_use, locked
 from locustjump.rundir.metrics import (
     generations_done,
     metrics_extra_columns,

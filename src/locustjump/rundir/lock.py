@@ -47,6 +47,21 @@ class InUse(UserError):
 _held: dict[str, int] = {}
 
 
+def _in_use_message(d: Path, who: str | None) -> str:
+    who = who or "another process"
+    return f"{d} is in use by {who} (one writer at a time; wait for it or stop it)"
+
+
+def check_not_in_use(directory: str | os.PathLike[str]) -> None:
+    """Raise :class:`InUse` if another process holds the lock of ``directory``:
+    what a validation says before it judges the directory's contents, which
+    that writer may be changing (a marker half-written is not a stranger's
+    file)."""
+    who = in_use(directory)
+    if who:
+        raise InUse(_in_use_message(Path(directory), who))
+
+
 @contextlib.contextmanager
 def locked(directory: str | os.PathLike[str]) -> Iterator[None]:
     """Hold the write lock of an existing ``directory`` (``UserError`` if another
@@ -71,10 +86,7 @@ def locked(directory: str | os.PathLike[str]) -> Iterator[None]:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except BlockingIOError:
             pid = _holder(fd)
-            who = f"process {pid}" if pid else "another process"
-            raise InUse(
-                f"{d} is in use by {who} (one writer at a time; wait for it or stop it)"
-            ) from None
+            raise InUse(_in_use_message(d, f"process {pid}" if pid else None)) from None
         except OSError as e:  # a file system without locks
             raise UserError(f"{d}: cannot be locked ({e.strerror or e})") from None
         _held[key] = 1

@@ -224,6 +224,7 @@ class Reproduction:
         )
         if out.exists() and not out.is_dir():
             raise UserError(f"{OUT} {out}: exists and is not a directory")
+        rundir.check_not_in_use(out)  # its writer may be making its marker
         if (out / name).is_file():
             have = _read_marker(out / name)
             for k, v in want.items():
