@@ -11,7 +11,12 @@ servo targets in the same scene (``_physics.py``): engine / physics near 1
 means the engine runs at the physics rate there too. One warm-up rollout per
 scene goes untimed.
 
-    python benchmarks/scene_cost.py [--repeats 5] [--terrains 3]
+With --touched-only each debris terrain's model is the bound of
+``debris_collision.py`` (the engine's model less every box and wall these
+episodes never touch, found by a first rollout): the most that culling work
+which can never produce a contact could give, in this benchmark's currency.
+
+    python benchmarks/scene_cost.py [--repeats 5] [--terrains 3] [--touched-only]
 """
 
 from __future__ import annotations
@@ -26,6 +31,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).parent))
 from _physics import physics_only_seconds  # noqa: E402
+from debris_collision import touched_only  # noqa: E402
 from locustjump.sim import model as lm  # noqa: E402
 from locustjump.sim.engine.backends import ThreadBackend  # noqa: E402
 from locustjump.sim.engine.rollout import rollout  # noqa: E402
@@ -34,16 +40,34 @@ from locustjump.tasks.rules import RuleController  # noqa: E402
 from locustjump.tasks.starts import ready_state  # noqa: E402
 
 
+def _use_touched_only(p, rc, params, scenes, steps) -> None:
+    """From here on, the engine and the replay load each debris scene's bound."""
+    bound = {}
+    with ThreadBackend(1) as backend:
+        for scene in scenes:
+            start = ready_state(p, scene)
+            res = rollout(rc, params, start, steps, model_params=p,
+                          record=("ctrl",), backend=backend, scene=scene)  # fmt: skip
+            bound[scene] = touched_only(p, scene, start, res["ctrl"])
+    load = lm.load_model
+    lm.load_model = lambda q, scene=Flat(): (  # type: ignore[assignment]
+        lm.copy_model(bound[scene]) if scene in bound and q == p else load(q, scene)
+    )
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeats", type=int, default=5)
     ap.add_argument("--terrains", type=int, default=3)
     ap.add_argument("--steps", type=int, default=3000)
+    ap.add_argument("--touched-only", action="store_true")
     args = ap.parse_args()
     p = lm.LocustParams()
     rc = RuleController.for_model(p)
     params = rc.params_for(np.linspace(0.0, 1.0, 20))
     scenes = [Flat()] + [Debris(seed=s) for s in range(args.terrains)]
+    if args.touched_only:
+        _use_touched_only(p, rc, params, scenes[1:], args.steps)
     rate: dict[str, list[float]] = {"flat": [], "debris": []}
     ratio: dict[str, list[float]] = {"flat": [], "debris": []}
     with ThreadBackend(1) as backend:
