@@ -15,6 +15,8 @@ is left, and what it costs: :mod:`~locustjump.runs.study_plan`.
 from __future__ import annotations
 
 import logging
+import os
+import shutil
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -125,7 +127,11 @@ def states(study: Study) -> list[RunState]:
             per_eval[arm.name] = (cfg.population * episode_steps(cfg, beh), score)
         gen, score = per_eval[arm.name]
         path = arm.run_dir(seed)
-        out.append(RunState(arm.name, seed, path, generations_done(path),
+        done = generations_done(path)
+        source = arm.source_dir(seed)
+        if source is not None and not rundir.is_run(path):
+            done = generations_done(source)  # what its copy will bring
+        out.append(RunState(arm.name, seed, path, done,
                             arm.base.generations, gen, score))  # fmt: skip
     return out
 
@@ -133,10 +139,29 @@ def states(study: Study) -> list[RunState]:
 def check_run(study: Study, arm: Arm, seed: int) -> None:
     """``UserError`` if the run of ``arm`` and ``seed`` exists with another
     configuration than the study declares (every differing key named), or
-    was built on other runs than the ones the study names."""
-    path = arm.run_dir(seed)
-    if not rundir.is_run(path):
-        return
+    was built on other runs than the ones the study names; likewise the run
+    it extends, if it extends one and has not copied it yet, which must be
+    finished and hold its checkpoint."""
+    path, source = arm.run_dir(seed), arm.source_dir(seed)
+    if source is not None and not rundir.is_run(path):
+        what = f"arm {arm.name!r}, seed {seed} extends {source}"
+        if not rundir.is_run(source):
+            raise UserError(f"{what}: no run there")
+        if not (source / rundir.CHECKPOINT).is_file():
+            raise UserError(
+                f"{what}: it holds no {rundir.CHECKPOINT} to continue from "
+                "(a shipped run keeps none)"
+            )
+        have = rundir.load_config(source / rundir.CONFIG).generations
+        if generations_done(source) < have and not (source / rundir.STOP).is_file():
+            raise UserError(f"{what}: not finished ({generations_done(source)} of "
+                            f"{have} generations)")  # fmt: skip
+        _check_config(study, arm, seed, source)
+    elif rundir.is_run(path):
+        _check_config(study, arm, seed, path)
+
+
+def _check_config(study: Study, arm: Arm, seed: int, path: Path) -> None:
     have = rundir.load_config(path / rundir.CONFIG)
     want = arm.config(seed)
     mine, theirs = want.to_dict(), have.to_dict()
@@ -242,6 +267,7 @@ def run_study(
             if st.path in trained:  # train returned, yet the run is unfinished
                 raise RuntimeError(f"{st.path}: not finished after training it")
             try:
+                _copy_source(arm, st.seed, st.path)
                 train(
                     arm.config(st.seed), st.path, resume=rundir.is_run(st.path),
                     backend=backend, progress=progress,
@@ -254,6 +280,25 @@ def run_study(
                 log(f"{st.arm}, seed {st.seed}: left to its trainer ({e})")
         left = [s for s in states(study) if not s.finished]
     return states(study)
+
+
+def _copy_source(arm: Arm, seed: int, path: Path) -> None:
+    """If ``arm`` extends runs and ``path`` is not made yet, make it a copy of
+    the run it extends: whole (checkpoints included), or not at all."""
+    source = arm.source_dir(seed)
+    if source is None or os.path.lexists(path):
+        return
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f".{path.name}.copy-{os.getpid()}")
+    shutil.rmtree(tmp, ignore_errors=True)
+    with rundir.locked(source):  # no one writes it while it is copied
+        shutil.copytree(source, tmp, symlinks=True)
+    try:
+        os.rename(tmp, path)
+    except OSError:  # another process made it first: train takes that one
+        shutil.rmtree(tmp, ignore_errors=True)
+        if not rundir.is_run(path):
+            raise
 
 
 def _next_run(study: Study, left: list[RunState]) -> tuple[RunState | None, list[str]]:

@@ -1,7 +1,7 @@
 """A study's arms (:mod:`~locustjump.runs.studyfile`): each arm's
 ``config.toml`` keys merged over the study's ``[defaults]``, its own keys
 (:data:`ARM_KEYS`: ``frozen``, ``score``, ``path``/``paths``, ``label``,
-``terrain_stride``, a fixed ``seed``) checked, and the arms ordered so that
+``terrain_stride``, ``extends``, a fixed ``seed``) checked, and the arms ordered so that
 each follows the arms it builds on."""
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ from locustjump.rundir.migrations import CONFIG_FORMAT
 from locustjump.tasks import behaviour_class
 
 #: an arm's keys that are the study's, not config.toml's
-ARM_KEYS = ("frozen", "score", "path", "paths", "label", "terrain_stride")
+ARM_KEYS = ("frozen", "score", "path", "paths", "label", "terrain_stride", "extends")
 
 
 @dataclass(frozen=True)
@@ -38,6 +38,9 @@ class Arm:
     #: each seed trains on its own terrains: seed s's first is the scene's
     #: seed + terrain_stride x s (0: every seed on the scene's terrains)
     terrain_stride: int = 0
+    #: a template with {seed}: each run starts as a copy of that finished run
+    #: (the same configuration, fewer generations) and trains on
+    extends: str | None = None
 
     def seed_of(self, seed: int) -> int:
         """The seed of this arm's run for the study's ``seed``."""
@@ -56,6 +59,14 @@ class Arm:
     def run_dir(self, seed: int) -> Path:
         s = self.seed_of(seed)
         return Path(self.paths.get(s, self.path).format(seed=s))
+
+    def source_dir(self, seed: int) -> Path | None:
+        """The run that this arm's run of ``seed`` continues, if it extends one."""
+        return (
+            None
+            if self.extends is None
+            else Path(self.extends.format(seed=self.seed_of(seed)))
+        )
 
 
 def _text(v: Any, key: str, src: str) -> str:
@@ -117,13 +128,17 @@ def parse_arms(d: Any, defaults: Any, root: Path, src: str) -> dict[str, Arm]:
             _paths(own.get("paths", {}), where),
             fixed,
             _stride(own.get("terrain_stride", 0), cfg, where),
+            _text(own["extends"], "extends", where) if "extends" in own else None,
         )
-        try:
-            arms[name].run_dir(0)
-        except (KeyError, IndexError, ValueError):
-            raise UserError(
-                f"{where}: path {arms[name].path!r}: the only field is {{seed}}"
-            ) from None
+        for key, look in (("path", arms[name].run_dir),
+                          ("extends", arms[name].source_dir)):  # fmt: skip
+            try:
+                look(0)
+            except (KeyError, IndexError, ValueError):
+                raise UserError(
+                    f"{where}: {key} {own.get(key, arms[name].path)!r}: the only "
+                    "field is {seed}"
+                ) from None
     for a in arms.values():
         for b in a.frozen.values():
             if b not in arms:

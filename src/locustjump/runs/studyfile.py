@@ -38,7 +38,9 @@ four arms), ``score = false`` (trained for another arm, not compared),
 seed its own training terrains: seed s from the scene's seed + K x s),
 ``seed = S`` (not scored: one
 run, seed S, that every seed's runs build on) — so a study can name runs
-made before it (the shipped ones). Paths are relative to the working
+made before it (the shipped ones) — and ``extends = "DIR/{seed}"`` (each run
+starts as a copy of that finished run and trains on to the arm's
+generations: a longer budget for a finished study). Paths are relative to the working
 directory. Every key is checked before anything runs: a wrong one is a
 one-line :class:`~locustjump.errors.UserError` naming it.
 """
