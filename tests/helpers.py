@@ -52,6 +52,7 @@ def wait_for_rows(out: Path, rows: int, timeout: float = 60.0) -> None:
         if m.exists() and len(m.read_text().splitlines()) > rows:
             return
         time.sleep(0.02)
+    raise AssertionError(f"{m}: not {rows} rows after {timeout:.0f} s")
 
 
 def run_cli(*argv: str) -> SimpleNamespace:

@@ -84,7 +84,7 @@ def test_resume_after_a_kill_is_bit_identical(tmp_path, kind):
            "6", "--seed", "5", "--generations", "40", "--threads", "1", "--quiet",
            "--optimizer", kind, "--out", str(out)]  # fmt: skip
     proc = subprocess.Popen(cmd)
-    wait_for_rows(out, 6, timeout=120)
+    wait_for_rows(out, 2, timeout=120)  # early: 38 generations of margin
     proc.send_signal(signal.SIGKILL)
     proc.wait()
     done = len(rundir.read_metrics(out / rundir.METRICS))

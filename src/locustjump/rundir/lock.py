@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import time
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -42,6 +43,10 @@ class InUse(UserError):
     such a run: another worker trains it)."""
 
 
+#: times a held lock is asked for again, 5 ms apart, before its holder is
+#: taken for a writer (a look holds it for microseconds)
+LOOK_TRIES = 10
+
 #: directories this process holds (re-entrant: a command that locks a
 #: reproduction may call one that locks it again)
 _held: dict[str, int] = {}
@@ -60,6 +65,24 @@ def check_not_in_use(directory: str | os.PathLike[str]) -> None:
     who = in_use(directory)
     if who:
         raise InUse(_in_use_message(Path(directory), who))
+
+
+def _take(d: Path, fd: int) -> None:
+    """Take the lock of ``d`` (open as ``fd``) or raise :class:`InUse` naming
+    its holder. A holder may be a look (:func:`in_use` takes the lock for a
+    moment), not a writer: the lock is asked for again for a while first."""
+    for attempt in range(LOOK_TRIES + 1):
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            return
+        except BlockingIOError:
+            if attempt == LOOK_TRIES:
+                pid = _holder(fd)
+                who = f"process {pid}" if pid else None
+                raise InUse(_in_use_message(d, who)) from None
+            time.sleep(0.005)
+        except OSError as e:  # a file system without locks
+            raise UserError(f"{d}: cannot be locked ({e.strerror or e})") from None
 
 
 @contextlib.contextmanager
@@ -82,13 +105,7 @@ def locked(directory: str | os.PathLike[str]) -> Iterator[None]:
     except OSError as e:
         raise UserError(f"{d}: cannot be locked ({e.strerror or e})") from None
     try:
-        try:
-            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError:
-            pid = _holder(fd)
-            raise InUse(_in_use_message(d, f"process {pid}" if pid else None)) from None
-        except OSError as e:  # a file system without locks
-            raise UserError(f"{d}: cannot be locked ({e.strerror or e})") from None
+        _take(d, fd)
         _held[key] = 1
         try:
             yield

@@ -240,6 +240,7 @@ class Reproduction:
                 f"{setting_ref('seed')})"
             )
         elif out.is_dir() and any(out.iterdir()):
+            rundir.check_not_in_use(out)  # a writer that came after the first look
             raise UserError(
                 f"{OUT} {out}: directory is not empty and holds no reproduction "
                 f"(no {name}); choose another {OUT}"
