@@ -3,6 +3,8 @@
 import contextlib
 import io
 import os
+import subprocess
+import sys
 import time
 from pathlib import Path
 from types import SimpleNamespace
@@ -94,3 +96,21 @@ def refused(argv: list[str], capsys, needle: str, d: Path) -> str:
     assert needle in err and len(err.strip().splitlines()) == 1, err
     assert tree_snapshot(d) == before
     return err
+
+
+_HOLD = """
+import fcntl, os, sys, time
+fd = os.open(sys.argv[1], os.O_RDONLY)
+fcntl.flock(fd, fcntl.LOCK_EX)
+print("locked", flush=True)
+time.sleep(120)
+"""
+
+
+def held_lock(directory: Path) -> subprocess.Popen:
+    """Another process holding the write lock of ``directory`` (kill it when
+    done)."""
+    holder = subprocess.Popen([sys.executable, "-c", _HOLD, str(directory)],
+                              stdout=subprocess.PIPE, text=True)  # fmt: skip
+    assert holder.stdout.readline().strip() == "locked"
+    return holder

@@ -7,6 +7,7 @@ import shutil
 
 import pytest
 
+from helpers import held_lock
 from locustjump import rundir
 from locustjump.cli import main
 from locustjump.rundir import layout
@@ -72,3 +73,26 @@ def test_a_run_of_ones_own_gets_its_derived_files_beside_it(shipped, tmp_path):
     assert main(["report", str(run)]) == 0
     assert (run / "eval" / "kick_vs_rules.png").is_file()
     assert (run / "report.html").is_file()
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [["evaluate", "kick"], ["sweep-getup", "getup", "--step-deg", "90"],
+     ["report", "kick"]],
+)  # fmt: skip
+def test_one_writer_of_a_shipped_runs_derived_files(shipped_here, capsys, argv):
+    """Two commands deriving from one shipped run would write the same files
+    under ``runs/shipped/``: the second is told who holds them."""
+    run = shipped_here / "quick-seed0" / argv[1]
+    derived = rundir.derived_dir(run)
+    derived.mkdir(parents=True)
+    holder = held_lock(derived)
+    try:
+        code = main([argv[0], str(run), *argv[2:], "--threads", "1"])
+    finally:
+        holder.kill()
+        holder.wait()
+    err = capsys.readouterr().err
+    assert code == 2 and f"is in use by process {holder.pid}" in err, err
+    assert len(err.strip().splitlines()) == 1, err
+    assert list(derived.iterdir()) == []

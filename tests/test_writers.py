@@ -12,16 +12,9 @@ from pathlib import Path
 
 import pytest
 
+from helpers import held_lock
 from locustjump import rundir
 from locustjump.cli import main
-
-HOLD = """
-import fcntl, os, sys, time
-fd = os.open(sys.argv[1], os.O_RDONLY)
-fcntl.flock(fd, fcntl.LOCK_EX)
-print("locked", flush=True)
-time.sleep(120)
-"""
 
 
 def _small(out: Path) -> list[str]:
@@ -59,13 +52,6 @@ def _commands(d: dict[str, Path], target: Path) -> list[list[str]]:
     ]
 
 
-def _held(directory: Path) -> subprocess.Popen:
-    holder = subprocess.Popen([sys.executable, "-c", HOLD, str(directory)],
-                              stdout=subprocess.PIPE, text=True)  # fmt: skip
-    assert holder.stdout.readline().strip() == "locked"
-    return holder
-
-
 def _snapshot(d: Path) -> dict[str, bytes | None]:
     return {
         str(p.relative_to(d)): p.read_bytes() if p.is_file() else None
@@ -92,7 +78,7 @@ def test_every_writer_refuses_a_directory_another_process_writes(
     cases.append((empty, ["reproduce", "--quiet", "--out", str(empty)]))
     cases += [(Path(c[1]) if c[0] != "train" else dirs["run"], c) for c in own]
     for d, argv in cases:
-        holder = _held(d)
+        holder = held_lock(d)
         try:
             before = _snapshot(d)
             code = main(argv)
@@ -162,7 +148,7 @@ def test_reproduce_into_a_held_directory_mid_marker(tmp_path, capsys):
     out = tmp_path / "rep"
     out.mkdir()
     (out / f".{rundir.MARKER}.tmp").write_text("half")
-    holder = _held(out)
+    holder = held_lock(out)
     try:
         code = main(["reproduce", "--quiet", "--threads", "1", "--out", str(out)])
     finally:
@@ -182,7 +168,7 @@ def test_a_writer_that_starts_after_the_first_look_is_named(
     it (a race CI could still lose after the first fix)."""
     out = tmp_path / "rep"
     out.mkdir()
-    holder = _held(out)
+    holder = held_lock(out)
     (out / f".{rundir.MARKER}.tmp").write_text("half")
     from locustjump.rundir import lock
 

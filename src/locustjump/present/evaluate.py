@@ -93,12 +93,8 @@ def evaluate_run(
         into = rundir.derived_dir(out) / rundir.EVAL
         if isinstance(best, rundir.Elite):
             into = rundir.elite_dir(out, best.cell)
-        if rundir.derived_dir(out) != out:  # a shipped run is not written
-            return evaluate_run(
-                out, backend=backend, eval_dir=into, scene=scene, elite=elite, cell=cell
-            )
-        with rundir.locked(out):  # the run's own eval/: from reading to writing
-            return evaluate_run(
+        with rundir.deriving(out):  # from reading to writing (a shipped run's
+            return evaluate_run(  # eval/ is under runs/shipped/)
                 out, backend=backend, eval_dir=into, scene=scene, elite=elite, cell=cell
             )
     if backend is None:

@@ -284,11 +284,10 @@ def write_report(
     d = Path(path)
     if not d.is_dir():
         raise UserError(f"{d}: no such directory")
-    page = Path(out) if out is not None else rundir.derived_dir(d) / rundir.REPORT
-    if page.resolve().parent != d.resolve():  # a shipped run is not written
-        return _write_report(d, backend, page)
-    with rundir.locked(d):  # from the first file read to report.html
-        return _write_report(d, backend, page)
+    if out is not None and Path(out).resolve().parent != d.resolve():
+        return _write_report(d, backend, Path(out))  # written atomically
+    with rundir.deriving(d) as dest:  # from the first file read to report.html
+        return _write_report(d, backend, Path(out or dest / rundir.REPORT))
 
 
 def _write_report(d: Path, backend: Backend | None, page: Path) -> Path:

@@ -76,6 +76,7 @@ from locustjump.rundir.metrics import (
 )
 from locustjump.rundir.outputs import (
     check_out_dir,
+    deriving,
     made_dir,
     make_dir,
     output_dir,

@@ -147,6 +147,22 @@ def made_dir(out: Path, setting: str | None = None) -> Iterator[Path]:
 
 
 @contextlib.contextmanager
+def deriving(run: Path) -> Iterator[Path]:
+    """Where the files derived from ``run`` go (:func:`~.layout.derived_dir`),
+    held by this process alone for the body: the run itself, locked, or a
+    shipped run's directory under ``runs/shipped/``, made if need be (and
+    removed again if the body fails) and locked, so that two commands never
+    write one derived file at once."""
+    dest = layout.derived_dir(Path(run))
+    if dest == Path(run):
+        with locked(dest):
+            yield dest
+        return
+    with made_dir(dest), locked(dest):
+        yield dest
+
+
+@contextlib.contextmanager
 def output_dir(
     path: str | os.PathLike[str], *, force: bool = False, setting: str = "out"
 ) -> Iterator[Path]:

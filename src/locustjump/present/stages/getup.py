@@ -4,7 +4,6 @@ the claims "5 of 5" and "65 of 180"."""
 
 from __future__ import annotations
 
-import contextlib
 import os
 from pathlib import Path
 from typing import IO, TYPE_CHECKING, Any
@@ -143,10 +142,8 @@ def sweep_run(
         raise UserError(
             f"{path}: holds a {cfg.behaviour!r} run; sweep-getup needs a getup run"
         )
-    dest = rundir.derived_dir(Path(path))  # a shipped run is not written
-    held = rundir.locked(path) if dest == Path(path) else contextlib.nullcontext()
-    with held:  # in the run: from the simulation to the last file
+    # from the simulation to the last file (a shipped run is not written)
+    with rundir.deriving(Path(path)) as dest:
         sw = sweep_getup(best.genome, cfg.model, angles, backend=backend,
                          engine=cfg.engine, scene=scene or cfg.scene.scene)  # fmt: skip
-        with rundir.made_dir(dest):
-            return sw, write_sweep(dest, sw)
+        return sw, write_sweep(dest, sw)
