@@ -96,7 +96,8 @@ def _two(argv: list[str]) -> list[tuple[int, str]]:
     cmd = [sys.executable, "-m", "locustjump.cli", *argv]
     procs = [subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
                               text=True) for _ in range(2)]  # fmt: skip
-    return [(p.wait(timeout=300), p.stderr.read()) for p in procs]
+    errs = [p.communicate(timeout=300)[1] for p in procs]  # (a full pipe blocks)
+    return [(p.returncode, e) for p, e in zip(procs, errs, strict=True)]
 
 
 #: what the one of two that comes second may say ("is in use by another
