@@ -21,6 +21,7 @@ from __future__ import annotations
 import argparse
 import re
 import statistics
+from collections.abc import Iterator
 
 import mujoco
 import numpy as np
@@ -52,22 +53,33 @@ def as_compiled(p: lm.LocustParams, scene: Scene) -> mujoco.MjModel:
     return mujoco.MjModel.from_xml_string(xml)
 
 
-def touched_only(p: lm.LocustParams, scene: Scene, start, ctrl) -> mujoco.MjModel:
-    """The engine's model of ``scene`` less the boxes and walls (and the walls'
-    contact sensors) that no contact of the episodes ``ctrl`` ever names."""
-    m = lm.load_model(p, scene)
-    d = mujoco.MjData(m)
-    touched: set[str] = set()
+def _physics_steps(m, d, p, start, ctrl) -> Iterator[str]:
+    """Replay the servo targets ``ctrl (n, T + 1, nu)`` from ``start`` on
+    ``d``, one physics step at a time; after each, what it ended: "" (a
+    substep), "control step", or "episode" (the last control step of one)."""
     for e in range(len(ctrl)):
         mujoco.mj_resetData(m, d)
         d.qpos[:], d.qvel[:] = start.qpos[0], start.qvel[0]
         mujoco.mj_forward(m, d)
         for t in range(1, ctrl.shape[1]):
             d.ctrl[:] = ctrl[e, t]
-            for _ in range(p.substeps):
+            for k in range(p.substeps):
                 mujoco.mj_step(m, d)
-                for g in d.contact.geom[: d.ncon].ravel():
-                    touched.add(mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_GEOM, g))
+                if k < p.substeps - 1:
+                    yield ""
+                else:
+                    yield "episode" if t == ctrl.shape[1] - 1 else "control step"
+
+
+def touched_only(p: lm.LocustParams, scene: Scene, start, ctrl) -> mujoco.MjModel:
+    """The engine's model of ``scene`` less the boxes and walls (and the walls'
+    contact sensors) that no contact of the episodes ``ctrl`` ever names."""
+    m = lm.load_model(p, scene)
+    d = mujoco.MjData(m)
+    touched: set[str] = set()
+    for _ in _physics_steps(m, d, p, start, ctrl):
+        for g in d.contact.geom[: d.ncon].ravel():
+            touched.add(mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_GEOM, g))
 
     def keep(element: re.Match[str]) -> str:
         return element[0] if element[1] in touched else ""
@@ -87,19 +99,14 @@ def replay(m, p, start, ctrl) -> tuple[dict[str, float], float, np.ndarray]:
     total = dict.fromkeys(STAGES, 0.0)
     steps = contacts = 0
     qpos = []
-    for e in range(len(ctrl)):
-        mujoco.mj_resetData(m, d)
-        d.qpos[:], d.qvel[:] = start.qpos[0], start.qvel[0]
-        mujoco.mj_forward(m, d)
-        for t in range(1, ctrl.shape[1]):
-            d.ctrl[:] = ctrl[e, t]
-            for _ in range(p.substeps):
-                mujoco.mj_step(m, d)
-                contacts += d.ncon
+    for last in _physics_steps(m, d, p, start, ctrl):
+        contacts += d.ncon
+        if last:  # a control step's last substep
             qpos.append(d.qpos.copy())
-        steps += d.timer[mujoco.mjtTimer.mjTIMER_STEP].number
-        for k, t in STAGES.items():
-            total[k] += d.timer[getattr(mujoco.mjtTimer, "mjTIMER_" + t)].duration
+        if last == "episode":  # its timers: since the episode's reset
+            steps += d.timer[mujoco.mjtTimer.mjTIMER_STEP].number
+            for k, t in STAGES.items():
+                total[k] += d.timer[getattr(mujoco.mjtTimer, "mjTIMER_" + t)].duration
     return (
         {k: v / steps * 1e6 for k, v in total.items()},
         contacts / steps,

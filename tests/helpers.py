@@ -114,3 +114,17 @@ def held_lock(directory: Path) -> subprocess.Popen:
                               stdout=subprocess.PIPE, text=True)  # fmt: skip
     assert holder.stdout.readline().strip() == "locked"
     return holder
+
+
+def main_while_held(directory: Path, argv: list[str], capsys) -> tuple[int, str, int]:
+    """``locustjump ARGV`` here while another process holds ``directory``'s
+    lock: (exit status, stderr, the holder's pid)."""
+    from locustjump.cli import main
+
+    holder = held_lock(directory)
+    try:
+        code = main(argv)
+    finally:
+        holder.kill()
+        holder.wait()
+    return code, capsys.readouterr().err, holder.pid

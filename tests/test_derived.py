@@ -7,7 +7,7 @@ import shutil
 
 import pytest
 
-from helpers import held_lock
+from helpers import main_while_held
 from locustjump import rundir
 from locustjump.cli import main
 from locustjump.rundir import layout
@@ -86,13 +86,8 @@ def test_one_writer_of_a_shipped_runs_derived_files(shipped_here, capsys, argv):
     run = shipped_here / "quick-seed0" / argv[1]
     derived = rundir.derived_dir(run)
     derived.mkdir(parents=True)
-    holder = held_lock(derived)
-    try:
-        code = main([argv[0], str(run), *argv[2:], "--threads", "1"])
-    finally:
-        holder.kill()
-        holder.wait()
-    err = capsys.readouterr().err
-    assert code == 2 and f"is in use by process {holder.pid}" in err, err
+    cmd = [argv[0], str(run), *argv[2:], "--threads", "1"]
+    code, err, pid = main_while_held(derived, cmd, capsys)
+    assert code == 2 and f"is in use by process {pid}" in err, err
     assert len(err.strip().splitlines()) == 1, err
     assert list(derived.iterdir()) == []

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 
-from helpers import held_lock
+from helpers import held_lock, main_while_held
 from locustjump import rundir
 from locustjump.cli import main
 
@@ -149,14 +149,9 @@ def test_reproduce_into_a_held_directory_mid_marker(tmp_path, capsys):
     out = tmp_path / "rep"
     out.mkdir()
     (out / f".{rundir.MARKER}.tmp").write_text("half")
-    holder = held_lock(out)
-    try:
-        code = main(["reproduce", "--quiet", "--threads", "1", "--out", str(out)])
-    finally:
-        holder.kill()
-        holder.wait()
-    err = capsys.readouterr().err
-    assert code == 2 and f"is in use by process {holder.pid}" in err, err
+    argv = ["reproduce", "--quiet", "--threads", "1", "--out", str(out)]
+    code, err, pid = main_while_held(out, argv, capsys)
+    assert code == 2 and f"is in use by process {pid}" in err, err
     assert len(err.strip().splitlines()) == 1, err
     assert sorted(p.name for p in out.iterdir()) == [f".{rundir.MARKER}.tmp"]
 
@@ -167,12 +162,11 @@ def test_a_writer_that_starts_after_the_first_look_is_named(
     """The first look finds the directory free; its writer locks it and
     starts its marker before the contents are judged: the second look names
     it (a race CI could still lose after the first fix)."""
-    out = tmp_path / "rep"
-    out.mkdir()
-    holder = held_lock(out)
-    (out / f".{rundir.MARKER}.tmp").write_text("half")
     from locustjump.rundir import lock
 
+    out = tmp_path / "rep"
+    out.mkdir()
+    (out / f".{rundir.MARKER}.tmp").write_text("half")
     real, looks = lock.in_use, []
 
     def late(d):
@@ -180,13 +174,9 @@ def test_a_writer_that_starts_after_the_first_look_is_named(
         return None if len(looks) == 1 else real(d)
 
     monkeypatch.setattr(lock, "in_use", late)
-    try:
-        code = main(["reproduce", "--quiet", "--threads", "1", "--out", str(out)])
-    finally:
-        holder.kill()
-        holder.wait()
-    err = capsys.readouterr().err
-    assert code == 2 and f"is in use by process {holder.pid}" in err, err
+    argv = ["reproduce", "--quiet", "--threads", "1", "--out", str(out)]
+    code, err, pid = main_while_held(out, argv, capsys)
+    assert code == 2 and f"is in use by process {pid}" in err, err
 
 
 def test_a_look_at_the_lock_does_not_stop_a_writer(tmp_path, monkeypatch):
