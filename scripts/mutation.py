@@ -76,6 +76,8 @@ MODULES: dict[str, tuple[str, ...]] = {
     "tasks/composed.py": ("tests/test_task_fitness.py",),
     # the statistics every comparison and every claim of docs/science.md rests on
     "present/stats.py": ("tests/test_stats.py",),
+    # the study table those claims are read from: its cells, budgets, pairs
+    "runs/study_table.py": ("tests/test_study_table.py", "tests/test_late_gain.py"),
 }
 
 #: modules of which only some functions are mutated (mutmut's name patterns):
@@ -106,6 +108,24 @@ FUNCTIONS: dict[str, tuple[str, ...]] = {
         "locustjump.tasks.composed.x_successive_fitness__mutmut_*",
         "locustjump.tasks.composed.x_successive_terms__mutmut_*",
     ),
+    # the table from its rows, not the scoring and file work around it
+    "runs/study_table.py": tuple(
+        f"locustjump.runs.study_table.x_{f}__mutmut_*"
+        for f in (
+            "late_gain",
+            "make_table",
+            "_compared",
+            "_med",
+            "_seeds_text",
+            "pairs",
+            "_budget_note",
+            "_reading",
+            "_fmt",
+            "_label",
+            "_mean",
+            "_max",
+        )
+    ),  # fmt: skip
 }
 
 #: what the table leaves out, and why (docs/mutation.md)
@@ -259,8 +279,14 @@ def summary(module: str) -> dict | None:
     }
 
 
+#: what the functions of :data:`FUNCTIONS` are, in the table
+PART = {"runs/study_table.py": "the table"}
+
+
 def label(module: str) -> str:
-    return f"{module} (fitness)" if module in FUNCTIONS else module
+    if module not in FUNCTIONS:
+        return module
+    return f"{module} ({PART.get(module, 'fitness')})"
 
 
 def write_doc(results: dict[str, dict | None]) -> None:

@@ -43,6 +43,17 @@ _BOUNDS = (
 #: mutant name -> (text of its mutated line, as mutmut's diff shows it,
 #: without indentation; why no test can tell it from the original); matched
 #: by function and text (:func:`listed`)
+_INF_CASE = "float() reads 'INF' as it reads 'inf'"
+_FLOAT_BEST = (
+    "the best column is read from metrics.csv as float64; an integer curve "
+    "would give the same shares too"
+)
+_UPPER_F = (
+    "'F' and 'f' differ only for inf and nan, which a diagnostic (the "
+    "largest of finite episode values; an unstable episode's are made "
+    "finite) never is"
+)
+
 EQUIVALENT: dict[str, tuple[str, str]] = {
     "locustjump.evo.rcga.x_sbx__mutmut_10": (
         "+ u < 0.5,",
@@ -208,4 +219,20 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
         "isfinite(c.low) or math.isfinite(c.high)",
         _BOUNDS,
     ),
+    "locustjump.runs.study_table.x__budget_note__mutmut_27": (
+        'float("INF")',
+        _INF_CASE,
+    ),
+    "locustjump.runs.study_table.x__budget_note__mutmut_39": (
+        ">= BUDGET_TOLERANCE",
+        "no float ratio r has r - 1 == 0.02 exactly (r - 1 is exact near 1, and "
+        "1 + 0.02 is not a double), so > and >= never differ",
+    ),
+    "locustjump.runs.study_table.x_late_gain__mutmut_4": ("dtype=None", _FLOAT_BEST),
+    "locustjump.runs.study_table.x_late_gain__mutmut_6": (
+        "np.asarray(best, )",
+        _FLOAT_BEST,
+    ),
+    "locustjump.runs.study_table.x_make_table__mutmut_219": ("'.4F'", _UPPER_F),
+    "locustjump.runs.study_table.x_make_table__mutmut_227": ("'.2F'", _UPPER_F),
 }

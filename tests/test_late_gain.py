@@ -35,3 +35,7 @@ def test_negative_fitness_and_short_runs():
     assert late_gain(best) == pytest.approx(0.5 / 3)
     assert late_gain(np.array([1.0, 2.0])) == 0.0  # no third to speak of
     assert late_gain(np.array([0.0, 0.0, 0.0])) == 0.0  # nothing gained
+    # three generations are enough: the last third is the last one
+    assert late_gain(np.array([1.0, 2.0, 3.0])) == pytest.approx(0.5)
+    # a gain below 1 in fitness units counts as a gain
+    assert late_gain(np.array([0.0, 0.1, 0.2, 0.3, 0.4, 0.5])) == pytest.approx(0.4)
