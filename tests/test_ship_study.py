@@ -1,9 +1,11 @@
 """scripts/ship_study.py: a finished study's runs copied into results/ (no
 checkpoints), each atomically; an unfinished or conflicting study refused
-before anything is written."""
+before anything is written. scripts/cross_check.py: the first generations of
+a study's finished runs retrained and compared to the last digit."""
 
 import importlib.util
 import re
+import shutil
 from pathlib import Path
 
 import pytest
@@ -19,6 +21,11 @@ _spec = importlib.util.spec_from_file_location(
 )
 ship_study = importlib.util.module_from_spec(_spec)
 _spec.loader.exec_module(ship_study)
+_spec = importlib.util.spec_from_file_location(
+    "cross_check", REPO / "scripts" / "cross_check.py"
+)
+cross_check = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(cross_check)
 
 
 def _study(tmp: Path, name: str, seeds: str = "0-1") -> Path:
@@ -91,3 +98,28 @@ def test_another_run_under_the_same_name_is_refused(trained, tmp_path, capsys):
     assert ship_study.main([str(trained), "--to", str(to), "--prefix", "ex"]) == 2
     assert "holds another run" in capsys.readouterr().err
     assert tree_snapshot(to) == before
+
+
+def test_cross_check_retrains_the_first_generations(trained, tmp_path, capsys):
+    assert cross_check.main([str(trained), "--seed", "1", "--generations", "2"]) == 0
+    out = capsys.readouterr().out
+    assert out.count("SAME") == 2 and "rcga, seed 1, 2 generation(s): SAME" in out
+    # a run whose second generation reads otherwise is named
+    copy = tmp_path / "copy.toml"
+    study = load_study(trained)
+    moved = tmp_path / "rcga-1"
+    shutil.copytree(study.arms["rcga"].run_dir(1), moved)
+    lines = (moved / rundir.METRICS).read_text().splitlines(keepends=True)
+    cells = lines[2].split(",")
+    cells[2] = repr(float(cells[2]) + 1e-12)  # the mean, off in its last digits
+    lines[2] = ",".join(cells)
+    (moved / rundir.METRICS).write_text("".join(lines))
+    copy.write_text(trained.read_text().replace(
+        "[arms.rcga]\n", f'[arms.rcga]\npaths = {{ "1" = "{moved}" }}\n'))  # fmt: skip
+    assert cross_check.main([str(copy), "--seed", "1", "--generations", "2"]) == 1
+    out = capsys.readouterr().out
+    assert "rcga, seed 1, 2 generation(s): DIFFERENT" in out
+    assert "random, seed 1, 2 generation(s): SAME" in out
+    # a seed without finished runs: one line, exit 2
+    assert cross_check.main([str(trained), "--seed", "3"]) == 2
+    assert "seed 3 is not one of the study's" in capsys.readouterr().err
