@@ -91,3 +91,23 @@ def test_one_writer_of_a_shipped_runs_derived_files(shipped_here, capsys, argv):
     assert code == 2 and f"is in use by process {pid}" in err, err
     assert len(err.strip().splitlines()) == 1, err
     assert list(derived.iterdir()) == []
+
+
+def test_a_failed_derivation_removes_only_what_it_made(shipped_here):
+    """A command that fails removes the derived directory it made, before it
+    lets go of its lock; one that was there before, with what it held, stays."""
+    run = shipped_here / "quick-seed0" / "kick"
+    derived = rundir.derived_dir(run)
+    with pytest.raises(RuntimeError):
+        with rundir.deriving(run) as d:
+            assert d == derived
+            (d / "half.csv").write_text("x")
+            assert rundir.in_use(d) is None  # held by this process
+            raise RuntimeError
+    assert not derived.exists() and derived.parent.is_dir()
+    derived.mkdir()
+    (derived / "kept.csv").write_text("y")
+    with pytest.raises(RuntimeError):
+        with rundir.deriving(run):
+            raise RuntimeError
+    assert (derived / "kept.csv").read_text() == "y"

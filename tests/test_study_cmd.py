@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from helpers import assert_same_run, run_cli
+from helpers import assert_same_run, run_cli, tree_snapshot
 from locustjump import rundir
 from locustjump.runs.study import check_run
 from locustjump.runs.study_table import TABLE_JSON, TABLE_MD
@@ -187,8 +187,10 @@ def test_a_longer_budget_continues_copies_of_finished_runs(finished, tmp_path):
 
 
 @pytest.mark.parametrize(
-    "case", ["missing", "no-checkpoint", "unfinished", "other-config"]
-)
+    "case",
+    ["missing", "no-checkpoint", "unfinished", "stopped", "not-longer", "template",
+     "other-config"],
+)  # fmt: skip
 def test_a_run_to_extend_is_checked_before_anything_runs(finished, tmp_path, case):
     if case == "missing":
         longer = _longer(finished, tmp_path, extends='"nowhere/{seed}"')
@@ -205,6 +207,18 @@ def test_a_run_to_extend_is_checked_before_anything_runs(finished, tmp_path, cas
         train(cfg.replace(generations=4), mine / "0", progress=False, stop_after=1)
         longer = _longer(finished, tmp_path, extends=f'"{mine}/{{seed}}"')
         want = "not finished (1 of 4 generations)"
+    elif case == "stopped":  # an optimizer that stopped has nothing to go on with
+        mine = tmp_path / "mine"
+        shutil.copytree(load_study(finished[0]).arms["rcga"].run_dir(0), mine / "0")
+        (mine / "0" / rundir.STOP).write_text("{}")
+        longer = _longer(finished, tmp_path, extends=f'"{mine}/{{seed}}"')
+        want = f"its optimizer stopped it early ({rundir.STOP})"
+    elif case == "not-longer":
+        longer = _longer(finished, tmp_path, generations=4)
+        want = "it has 4 generations; the arm's 4 must be more"
+    elif case == "template":
+        longer = _longer(finished, tmp_path, extends='"x/{sed}"')
+        want = "extends 'x/{sed}': the only field is {seed}"
     else:
         longer = _longer(
             finished, tmp_path, optimizer="{ kind = 'rcga', population = 6 }"
@@ -214,6 +228,27 @@ def test_a_run_to_extend_is_checked_before_anything_runs(finished, tmp_path, cas
     assert r.returncode == 2 and want in r.stderr, r.stderr
     assert len(r.stderr.strip().splitlines()) == 1, r.stderr
     assert not (tmp_path / "runs").exists()
+
+
+def test_a_copy_that_fails_leaves_nothing(finished, tmp_path, monkeypatch):
+    """A full disk (or Ctrl-C) half-way through copying a run to extend: no
+    half copy is left, under any name, and the source is untouched."""
+    from locustjump.runs import study as study_mod
+
+    study = load_study(_longer(finished, tmp_path))
+    source = study.arms["rcga"].source_dir(0)
+    before = tree_snapshot(source)
+    real = shutil.copytree
+
+    def half(src, dst, **kw):
+        real(src, dst, **{**kw, "ignore": lambda d, names: names[1:]})
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(study_mod.shutil, "copytree", half)
+    with pytest.raises(OSError, match="No space left"):
+        study_mod.run_study(study, progress=False, log=lambda m: None)
+    assert list((tmp_path / "runs" / "rcga").iterdir()) == []
+    assert tree_snapshot(source) == before
 
 
 def test_the_table(finished):

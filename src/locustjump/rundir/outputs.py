@@ -150,16 +150,26 @@ def made_dir(out: Path, setting: str | None = None) -> Iterator[Path]:
 def deriving(run: Path) -> Iterator[Path]:
     """Where the files derived from ``run`` go (:func:`~.layout.derived_dir`),
     held by this process alone for the body: the run itself, locked, or a
-    shipped run's directory under ``runs/shipped/``, made if need be (and
-    removed again if the body fails) and locked, so that two commands never
-    write one derived file at once."""
+    shipped run's directory under ``runs/shipped/``, made if need be and
+    locked (if this call made it and the body fails, it is removed again,
+    before the lock is let go), so that two commands never write one derived
+    file at once."""
     dest = layout.derived_dir(Path(run))
     if dest == Path(run):
         with locked(dest):
             yield dest
         return
-    with made_dir(dest), locked(dest):
-        yield dest
+    # made here or not, it is removed only by the process that holds it, and
+    # only itself: another command may have made it (or its parents' other
+    # directories) at the same moment and hold it now
+    made = make_dir(dest, None) is not None
+    with locked(dest):
+        try:
+            yield dest
+        except BaseException:
+            if made:
+                shutil.rmtree(dest, ignore_errors=True)
+            raise
 
 
 @contextlib.contextmanager

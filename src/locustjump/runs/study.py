@@ -17,6 +17,7 @@ from __future__ import annotations
 import logging
 import os
 import shutil
+import tempfile
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -153,9 +154,15 @@ def check_run(study: Study, arm: Arm, seed: int) -> None:
                 "(a shipped run keeps none)"
             )
         have = rundir.load_config(source / rundir.CONFIG).generations
-        if generations_done(source) < have and not (source / rundir.STOP).is_file():
+        if (source / rundir.STOP).is_file():
+            raise UserError(f"{what}: its optimizer stopped it early "
+                            f"({rundir.STOP}): it cannot be continued")  # fmt: skip
+        if generations_done(source) < have:
             raise UserError(f"{what}: not finished ({generations_done(source)} of "
                             f"{have} generations)")  # fmt: skip
+        if have >= arm.base.generations:
+            raise UserError(f"{what}: it has {have} generations; the arm's "
+                            f"{arm.base.generations} must be more")  # fmt: skip
         _check_config(study, arm, seed, source)
     elif rundir.is_run(path):
         _check_config(study, arm, seed, path)
@@ -289,16 +296,22 @@ def _copy_source(arm: Arm, seed: int, path: Path) -> None:
     if source is None or os.path.lexists(path):
         return
     path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.copy-{os.getpid()}")
-    shutil.rmtree(tmp, ignore_errors=True)
-    with rundir.locked(source):  # no one writes it while it is copied
-        shutil.copytree(source, tmp, symlinks=True)
+    # a finished run is not written but for derived files (eval/, a report),
+    # which a reader may be making: their temporary files are left out
+    tmp = Path(tempfile.mkdtemp(prefix=f".{path.name}.copy-", dir=path.parent))
     try:
+        shutil.copytree(source, tmp, symlinks=True, dirs_exist_ok=True,
+                        ignore=shutil.ignore_patterns(".*"))  # fmt: skip
         os.rename(tmp, path)
-    except OSError:  # another process made it first: train takes that one
-        shutil.rmtree(tmp, ignore_errors=True)
-        if not rundir.is_run(path):
+        return
+    except OSError:
+        if not rundir.is_run(path):  # not another process's copy, made first
+            shutil.rmtree(tmp, ignore_errors=True)
             raise
+    except BaseException:  # half a copy is never left (Ctrl-C included)
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    shutil.rmtree(tmp, ignore_errors=True)  # train takes the other's copy
 
 
 def _next_run(study: Study, left: list[RunState]) -> tuple[RunState | None, list[str]]:
