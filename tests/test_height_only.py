@@ -53,3 +53,24 @@ def test_its_dense_reward_adds_up_to_its_fitness(genomes):
     total = sum(reward.step(q, o) for q, o in zip(res["qpos"][0, 1:], res["obs"][0, 1:],
                                                     strict=True))  # fmt: skip
     assert total == pytest.approx(beh.episode_fitness(res, P)[0], rel=1e-12)
+
+
+def test_the_height_is_counted_above_the_box_under_the_body():
+    # a made trajectory: controller 0 stands over the tallest box, controller
+    # 1 over the open clearing at the start, both at z = 0.5 m for 4 steps
+    beh = get_behaviour("monolithic-height", terrains=Terrains(Debris(seed=3)))
+    boxes = beh.scene.boxes(P.body_length)
+    x, y, *_, top = boxes[np.argmax(boxes[:, 5])]
+    assert beh.scene.heights(x, y, P.body_length) == top > 0
+    qpos = np.zeros((2, 5, 7))
+    qpos[0, :, :2] = x, y
+    qpos[:, :, 2] = 0.5
+    res = {"qpos": qpos}
+    np.testing.assert_allclose(beh.episode_fitness(res, P), [4 * (0.5 - top), 4 * 0.5])
+    terms = beh.episode_terms(res, P)
+    assert terms["distance"].shape == (2,) and terms["distance"].dtype == np.float64
+    np.testing.assert_array_equal(terms["distance"], np.zeros(2))
+    np.testing.assert_array_equal(terms["height"], beh.episode_fitness(res, P))
+    reward = beh.reward(P)
+    reward.reset(qpos[0, 0], np.zeros(1))
+    assert reward.step(qpos[0, 1], np.zeros(1)) == pytest.approx(0.5 - top)
