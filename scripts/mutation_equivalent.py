@@ -11,6 +11,10 @@ _GEN0 = (
     "at generation 0 the population and its fitness are empty, so the first "
     "e rows of them are empty whatever e is"
 )
+_UNIQUE_CELLS = (
+    "an archive's cells are distinct (Archive checks it), so every sort of "
+    "them gives the same order, stable or not"
+)
 _TEMPLATE = "a type template for coerce: only its type is read"
 _ZIP = (
     "the lengths were compared just above: a row (or array) of another "
@@ -235,4 +239,36 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
     ),
     "locustjump.runs.study_table.x_make_table__mutmut_219": ("'.4F'", _UPPER_F),
     "locustjump.runs.study_table.x_make_table__mutmut_227": ("'.2F'", _UPPER_F),
+    "locustjump.tasks.descriptors.x_describe__mutmut_30": (
+        "reshape(terrains, -2, per_controller)",
+        "NumPy 2 reads any negative size in reshape as the one unknown "
+        "dimension (checked: reshape(2, -2, 3) of 12 values is (2, 2, 3))",
+    ),
+    "locustjump.evo.archive.xǁArchiveǁqd_score__mutmut_4": ("kind=None", _UNIQUE_CELLS),
+    "locustjump.evo.archive.xǁArchiveǁqd_score__mutmut_6": (
+        "np.argsort(self.index, )",
+        _UNIQUE_CELLS,
+    ),
+    "locustjump.evo.archive.xǁArchiveǁqd_score__mutmut_8": (
+        'kind="STABLE"',
+        _UNIQUE_CELLS,
+    ),
+    "locustjump.evo.archive.xǁArchiveǁin_cell_order__mutmut_3": (
+        "kind=None",
+        _UNIQUE_CELLS,
+    ),
+    "locustjump.evo.archive.xǁArchiveǁin_cell_order__mutmut_5": (
+        "np.argsort(self.index, )",
+        _UNIQUE_CELLS,
+    ),
+    "locustjump.evo.archive.xǁArchiveǁin_cell_order__mutmut_7": (
+        'kind="STABLE"',
+        _UNIQUE_CELLS,
+    ),
+    "locustjump.evo.archive.xǁArchiveǁat_cell__mutmut_9": ("strict=None", _ZIP),
+    "locustjump.evo.archive.xǁArchiveǁat_cell__mutmut_12": (
+        "zip(cell, self.dims, )",
+        _ZIP,
+    ),
+    "locustjump.evo.archive.xǁArchiveǁat_cell__mutmut_13": ("strict=False", _ZIP),
 }

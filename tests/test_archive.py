@@ -75,6 +75,9 @@ def test_the_edges_of_the_grid_are_legal():
     assert a.cells == 6 and len(a) == 3
     one = _archive(dims=(1, 6))  # one cell along a descriptor is a grid
     assert one.cells == 6
+    line = _archive(names=("x",), lows=np.zeros(1), highs=np.ones(1), dims=(6,),
+                    measures=np.array([[0.9], [0.1], [0.6]]))  # fmt: skip
+    assert line.cells == 6 and line.at_cell((3,)) == 2  # one descriptor is a grid
     empty = _archive(index=np.zeros(0, int), solution=np.zeros((0, 2)),
                      objective=np.zeros(0), measures=np.zeros((0, 2)),
                      generation=np.zeros(0, int))  # fmt: skip

@@ -1,0 +1,64 @@
+"""The ground's height on debris, which Eq. 4 on a terrain and the height
+term of every debris study subtract (sim/rubble.py, Debris.heights), against
+a plain reference: the tallest box over each point, every box tried."""
+
+import math
+
+import numpy as np
+import pytest
+
+from locustjump.sim import model as lm
+from locustjump.sim import rubble
+from locustjump.sim.scene import Debris
+
+BL = lm.LocustParams().body_length
+
+
+def _tallest_over(boxes: np.ndarray, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """The top of the tallest box whose footprint holds each point (0 where
+    none does), trying every box over every point."""
+    top = np.zeros(np.broadcast(x, y).shape)
+    for bx, by, yaw, sx, sy, h in boxes:
+        dx, dy = x - bx, y - by
+        u = dx * math.cos(yaw) + dy * math.sin(yaw)
+        v = -dx * math.sin(yaw) + dy * math.cos(yaw)
+        inside = (np.abs(u) <= sx / 2) & (np.abs(v) <= sy / 2)
+        top = np.where(inside, np.maximum(top, h), top)
+    return top
+
+
+@pytest.mark.parametrize(
+    "field", [Debris(seed=4), Debris(seed=1001, size_max=1.5, behind=0.0, length=8.0)]
+)
+def test_the_grid_holds_the_tallest_box_over_each_cell_centre(field):
+    x0, y0, cell, grid = rubble.height_grid(field, BL)
+    cx = x0 + (np.arange(grid.shape[0]) + 0.5) * cell
+    cy = y0 + (np.arange(grid.shape[1]) + 0.5) * cell
+    want = _tallest_over(field.boxes(BL), cx[:, None], cy[None, :])
+    np.testing.assert_array_equal(grid, want)
+    assert (grid > 0).mean() > 0.1  # a field, not an empty grid
+    # the grid reaches past the field by a box's half diagonal on every side
+    reach = field.size_max * BL / math.sqrt(2)
+    assert x0 == -field.behind * BL - reach and y0 == -field.width / 2 * BL - reach
+    assert cx[-1] + cell / 2 >= field.length * BL + reach
+    assert cy[-1] + cell / 2 >= field.width / 2 * BL + reach
+    assert cell == rubble.HEIGHT_CELL_BL * BL
+
+
+def test_heights_read_the_cell_a_point_falls_in_and_zero_outside():
+    field = Debris(seed=4)
+    x0, y0, cell, grid = rubble.height_grid(field, BL)
+    i, j = np.nonzero(grid)
+    pick = np.random.default_rng(0).choice(len(i), 200, replace=False)
+    i, j = i[pick], j[pick]
+    # anywhere inside a cell reads that cell (at an edge, rounding decides)
+    for fx, fy in ((0.5, 0.5), (0.01, 0.01), (0.99, 0.01), (0.2, 0.98)):
+        x, y = x0 + (i + fx) * cell, y0 + (j + fy) * cell
+        np.testing.assert_array_equal(field.heights(x, y, BL), grid[i, j])
+    # shapes broadcast; points off the grid on any side are on the floor
+    assert field.heights(np.zeros((2, 3)), 0.0, BL).shape == (2, 3)
+    nx, ny = grid.shape
+    off_x = np.array([x0 - cell * 0.01, x0 + nx * cell + 1e-9, x0 + 1.5 * cell])
+    off_y = np.array([y0 + 1.5 * cell, y0 + 1.5 * cell, y0 + ny * cell + 1e-9])
+    np.testing.assert_array_equal(field.heights(off_x, off_y, BL), 0.0)
+    assert field.heights(np.array([x0 + 0.5 * cell]), np.array([y0 - 1e-9]), BL) == 0
