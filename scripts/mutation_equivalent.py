@@ -15,6 +15,29 @@ _UNIQUE_CELLS = (
     "an archive's cells are distinct (Archive checks it), so every sort of "
     "them gives the same order, stable or not"
 )
+_PER_EMITTER = (
+    "one entry per emitter each by construction: the first genomes are split "
+    "by batch_sizes() (one size per emitter) and _start draws one seed per "
+    "emitter, so zip's strictness is never tested"
+)
+_RIBS_DEFAULT = (
+    "the argument left out is pyribs 0.12's default for EvolutionStrategyEmitter "
+    "(checked with inspect.signature); it is written out so that another "
+    "default cannot change CMA-ME, and tests/test_qd_params.py checks the "
+    "emitter's ranker, strategy and rules"
+)
+_FLOATS_ASK = "pyribs asks float64 arrays, and Optimizer.ask converts to float64 anyway"
+_INT64 = (
+    "np.full of a Python int is int64 (NumPy 2's default integer on every "
+    "platform), and pyribs stores the field as the int64 it was declared"
+)
+_RIBS_FLOATS = (
+    "pyribs' GridArchive stores solutions, objectives and measures as float64 "
+    "(its default dtype) and the generation field as the declared int64"
+)
+_REPLAY_M = (
+    "each replayed row goes through tell, whose check_descriptors makes it float64"
+)
 _TEMPLATE = "a type template for coerce: only its type is read"
 _ZIP = (
     "the lengths were compared just above: a row (or array) of another "
@@ -271,4 +294,96 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
         _ZIP,
     ),
     "locustjump.evo.archive.xǁArchiveǁat_cell__mutmut_13": ("strict=False", _ZIP),
+    "locustjump.evo.map_elites.xǁMapElitesǁ_emitters__mutmut_38": (
+        "strict=None",
+        _PER_EMITTER,
+    ),
+    "locustjump.evo.map_elites.xǁMapElitesǁ_emitters__mutmut_42": (
+        "zip(starts, sizes, seeds, )",
+        _PER_EMITTER,
+    ),
+    "locustjump.evo.map_elites.xǁMapElitesǁ_emitters__mutmut_43": (
+        "strict=False",
+        _PER_EMITTER,
+    ),
+    "locustjump.evo.map_elites.xǁMapElitesǁ_emitters__mutmut_59": (
+        "strict=None",
+        _PER_EMITTER,
+    ),
+    "locustjump.evo.map_elites.xǁMapElitesǁ_emitters__mutmut_63": (
+        "zip(starts, sizes, seeds, )",
+        _PER_EMITTER,
+    ),
+    "locustjump.evo.map_elites.xǁMapElitesǁ_emitters__mutmut_64": (
+        "strict=False",
+        _PER_EMITTER,
+    ),
+    "locustjump.evo.cma_me.xǁCMAMEǁ_emitters__mutmut_15": (
+        'ranker="2imp"',
+        _RIBS_DEFAULT,
+    ),
+    "locustjump.evo.cma_me.xǁCMAMEǁ_emitters__mutmut_16": (
+        'es="cma_es"',
+        _RIBS_DEFAULT,
+    ),
+    "locustjump.evo.cma_me.xǁCMAMEǁ_emitters__mutmut_17": (
+        'selection_rule="filter"',
+        _RIBS_DEFAULT,
+    ),
+    "locustjump.evo.cma_me.xǁCMAMEǁ_emitters__mutmut_18": (
+        'restart_rule="no_improvement"',
+        _RIBS_DEFAULT,
+    ),
+    "locustjump.evo.cma_me.xǁCMAMEǁ_emitters__mutmut_32": ("strict=None", _PER_EMITTER),
+    "locustjump.evo.cma_me.xǁCMAMEǁ_emitters__mutmut_35": (
+        "zip(p.batch_sizes(), seeds, )",
+        _PER_EMITTER,
+    ),
+    "locustjump.evo.cma_me.xǁCMAMEǁ_emitters__mutmut_36": (
+        "strict=False",
+        _PER_EMITTER,
+    ),
+    "locustjump.evo.qd.xǁQDOptimizerǁ_ask__mutmut_2": ("dtype=None", _FLOATS_ASK),
+    "locustjump.evo.qd.xǁQDOptimizerǁ_ask__mutmut_4": (
+        "np.asarray(self._scheduler.ask(), )",
+        _FLOATS_ASK,
+    ),
+    "locustjump.evo.qd.xǁQDOptimizerǁ_tell_described__mutmut_4": ("dtype=None", _INT64),
+    "locustjump.evo.qd.xǁQDOptimizerǁ_tell_described__mutmut_7": (
+        "self.generation + 1, )",
+        _INT64,
+    ),
+    "locustjump.evo.qd.xǁQDOptimizerǁarchive__mutmut_40": ("dtype=None", _RIBS_FLOATS),
+    "locustjump.evo.qd.xǁQDOptimizerǁarchive__mutmut_42": (
+        'np.asarray(d["solution"], )',
+        _RIBS_FLOATS,
+    ),
+    "locustjump.evo.qd.xǁQDOptimizerǁarchive__mutmut_46": ("dtype=None", _RIBS_FLOATS),
+    "locustjump.evo.qd.xǁQDOptimizerǁarchive__mutmut_48": (
+        'np.asarray(d["objective"], )',
+        _RIBS_FLOATS,
+    ),
+    "locustjump.evo.qd.xǁQDOptimizerǁarchive__mutmut_52": ("dtype=None", _RIBS_FLOATS),
+    "locustjump.evo.qd.xǁQDOptimizerǁarchive__mutmut_54": (
+        'np.asarray(d["measures"], )',
+        _RIBS_FLOATS,
+    ),
+    "locustjump.evo.qd.xǁQDOptimizerǁarchive__mutmut_58": ("dtype=None", _RIBS_FLOATS),
+    "locustjump.evo.qd.xǁQDOptimizerǁarchive__mutmut_60": (
+        'np.asarray(d["generation"], )',
+        _RIBS_FLOATS,
+    ),
+    "locustjump.evo.qd.xǁQDOptimizerǁ_set_state__mutmut_13": ("dtype=None", _REPLAY),
+    "locustjump.evo.qd.xǁQDOptimizerǁ_set_state__mutmut_15": (
+        'np.asarray(state["fitness_history"], )',
+        _REPLAY,
+    ),
+    "locustjump.evo.qd.xǁQDOptimizerǁ_set_state__mutmut_20": ("dtype=None", _REPLAY_M),
+    "locustjump.evo.qd.xǁQDOptimizerǁ_set_state__mutmut_22": (
+        'np.asarray(state["descriptor_history"], )',
+        _REPLAY_M,
+    ),
+    "locustjump.evo.qd.xǁQDOptimizerǁ_set_state__mutmut_31": ("strict=None", _ZIP),
+    "locustjump.evo.qd.xǁQDOptimizerǁ_set_state__mutmut_34": ("zip(f, m, )", _ZIP),
+    "locustjump.evo.qd.xǁQDOptimizerǁ_set_state__mutmut_35": ("strict=False", _ZIP),
 }

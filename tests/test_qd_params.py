@@ -308,3 +308,12 @@ def test_cma_me_emitters_are_cma_es_ranked_by_improvement():
         # pyribs spawns the evolution strategy's generator from the seed
         opt_seed = np.random.SeedSequence(seed).spawn(2)[0]
         assert _same_generator(e._opt._rng, opt_seed)
+
+
+def test_seed_0_is_the_default_and_integer_ranges_read_as_floats():
+    p = MapElitesParams(population=6, descriptors=("a", "b"), ranges=((0, 1), (-1, 1)),
+                        cells=(3, 4))  # fmt: skip
+    np.testing.assert_array_equal(MapElites(4, p).ask(), MapElites(4, p, 0).ask())
+    a = MapElites(4, p).archive()
+    assert a.lows.dtype == a.highs.dtype == np.float64
+    np.testing.assert_array_equal(a.edges(1), [-1.0, -0.5, 0.0, 0.5, 1.0])

@@ -12,6 +12,7 @@ from locustjump.rundir import FrozenGenomes
 from locustjump.rundir.config import TrainConfig
 from locustjump.runs.trainer import train
 from locustjump.sim.controller import MLP
+from locustjump.sim.scene import Debris, Terrains
 from locustjump.tasks import Composed, ComposedRepertoire, get_behaviour
 from locustjump.tasks.composed import SIMPLE, SwitchingController
 from locustjump.tasks.repertoire import RepertoireOptions
@@ -49,12 +50,23 @@ def test_a_repertoire_composition_takes_k_elites_then_getup_and_return_legs():
     names = ComposedRepertoire.frozen_names(opts)
     assert names == ("kick", "kick", "kick", "getup", "return-legs")
     beh = get_behaviour("composed-repertoire", np.zeros((5, NET.num_params)), opts)
-    assert beh.memory_labels[:3] == ("kick elite 0", "kick elite 1", "kick elite 2")
+    assert beh.memory_labels == (
+        "kick elite 0", "kick elite 1", "kick elite 2", "getup", "return-legs"
+    )  # fmt: skip
+    assert beh.terrains == Terrains() and beh.scene.is_flat
     assert beh.controller.networks == 5
     with pytest.raises(ValueError, match="needs 5 frozen genomes"):
         get_behaviour("composed-repertoire", np.zeros((3, 144)), opts).controller  # noqa: B018
     with pytest.raises(ValueError, match=r"^elites must be an integer in \[1, 64\]"):
         RepertoireOptions(elites=0)
+
+
+def test_a_repertoire_composition_is_scored_on_its_terrains():
+    t = Terrains(Debris(seed=3), count=2)
+    beh = get_behaviour("composed-repertoire", np.zeros((5, NET.num_params)),
+                        RepertoireOptions(elites=3), terrains=t)  # fmt: skip
+    assert beh.terrains is t and beh.scene == Debris(seed=3)
+    assert [s.seed for s in beh.terrains.scenes] == [3, 4]
 
 
 @pytest.fixture(scope="module")
