@@ -62,7 +62,7 @@ $(VENV)/.mutation-installed: pyproject.toml | $(BIN)/python
 	touch $@
 
 # mutmut on the core modules, one at a time, each against its focused tests;
-# writes docs/mutation.md (half an hour on 2 cores: not part of `make test`)
+# writes docs/mutation.md (under an hour on 2 cores: not part of `make test`)
 mutation: $(VENV)/.mutation-installed
 	$(BIN)/python scripts/mutation.py
 

@@ -7,7 +7,7 @@ module by a "stats" run) from the module's *focused* test files only, never
 the whole suite. A mutant no test notices is a behaviour no test states.
 
 Each module runs in its own scratch directory ``.mutation/<module>/``
-(``src`` and ``tests`` linked, ``pyproject.toml`` with the module's
+(``src``, ``tests`` and ``scripts`` linked, ``pyproject.toml`` with the module's
 ``[tool.mutmut]``; mutmut copies and mutates under ``mutants/`` there).
 Numba's cache goes to a directory of that scratch run (``NUMBA_CACHE_DIR``),
 so compiled code cached from the checkout is never run in place of a mutant.
@@ -18,7 +18,7 @@ run: mutants, killed (a test failed; timeouts count), equivalent (listed in
 survived (no test failed, or no test reached it) and the kill rate
 ``killed / (mutants - equivalent)``.
 
-    python scripts/mutation.py                  # every module (half an hour)
+    python scripts/mutation.py                  # every module (under an hour)
     python scripts/mutation.py evo/rcga.py      # one module (minutes)
     python scripts/mutation.py evo/rcga.py --survivors   # rerun what survived
 
@@ -69,7 +69,7 @@ MODULES: dict[str, tuple[str, ...]] = {
     "evo/random_search.py": ("tests/test_optimizer_contract.py",),
     "evo/cma.py": ("tests/test_cma_contract.py",),
     "evo/__init__.py": ("tests/test_optimizer_contract.py",),
-    "tasks/kick.py": ("tests/test_kick_fitness.py",),
+    "tasks/kick.py": ("tests/test_kick_fitness.py", "tests/test_qd.py"),
     "tasks/getup.py": ("tests/test_task_fitness.py",),
     "tasks/return_legs.py": ("tests/test_task_fitness.py",),
     "tasks/base.py": ("tests/test_task_fitness.py",),
@@ -78,6 +78,17 @@ MODULES: dict[str, tuple[str, ...]] = {
     "present/stats.py": ("tests/test_stats.py",),
     # the study table those claims are read from: its cells, budgets, pairs
     "runs/study_table.py": ("tests/test_study_table.py", "tests/test_late_gain.py"),
+    # the height-only ablation of issue #45: its answer rests on this fitness
+    "tasks/height_only.py": ("tests/test_height_only.py",),
+    # quality diversity (issue #46): descriptors, the archive, the optimizers
+    "tasks/descriptors.py": ("tests/test_descriptors.py", "tests/test_qd.py"),
+    "evo/archive.py": ("tests/test_archive.py",),
+    "evo/qd.py": ("tests/test_qd_params.py",),
+    "evo/map_elites.py": ("tests/test_qd_params.py",),
+    "evo/cma_me.py": ("tests/test_qd_params.py",),
+    "tasks/repertoire.py": ("tests/test_repertoire.py",),
+    # the ground's height on debris, which every debris fitness subtracts
+    "sim/debris.py": ("tests/test_rubble.py",),
 }
 
 #: modules of which only some functions are mutated (mutmut's name patterns):
@@ -88,6 +99,8 @@ FUNCTIONS: dict[str, tuple[str, ...]] = {
         "locustjump.tasks.kick.x_takeoff__mutmut_*",
         "locustjump.tasks.kick.xǁKickRewardǁ*",
         "locustjump.tasks.kick.xǁKickǁepisode_fitness__mutmut_*",
+        "locustjump.tasks.kick.x_kick_descriptors__mutmut_*",
+        "locustjump.tasks.kick.xǁKickǁepisode_descriptors__mutmut_*",
     ),
     "tasks/getup.py": (
         "locustjump.tasks.getup.x_up_z__mutmut_*",
@@ -108,6 +121,8 @@ FUNCTIONS: dict[str, tuple[str, ...]] = {
         "locustjump.tasks.composed.x_successive_fitness__mutmut_*",
         "locustjump.tasks.composed.x_successive_terms__mutmut_*",
     ),
+    # the ground's height (the rest is the scene's MJCF, checked by physics)
+    "sim/debris.py": ("locustjump.sim.debris.xǁDebrisǁheights__mutmut_*",),
     # the table from its rows, not the scoring and file work around it
     "runs/study_table.py": tuple(
         f"locustjump.runs.study_table.x_{f}__mutmut_*"
@@ -167,7 +182,7 @@ def prepare(module: str, fresh: bool) -> Path:
     if fresh and wd.exists():
         shutil.rmtree(wd)
     wd.mkdir(parents=True, exist_ok=True)
-    for name in ("src", "tests"):
+    for name in ("src", "tests", "scripts"):  # a test may load a script
         if not (wd / name).exists():
             (wd / name).symlink_to(ROOT / name)
     tests = ", ".join(json.dumps(t) for t in MODULES[module])
@@ -175,6 +190,7 @@ def prepare(module: str, fresh: bool) -> Path:
         (ROOT / "pyproject.toml").read_text()
         + "\n[tool.mutmut]\n"
         + 'source_paths = ["src"]\n'
+        + 'also_copy = ["scripts"]\n'
         + f'only_mutate = ["src/locustjump/{module}"]\n'
         + 'pytest_add_cli_args = ["-p", "no:cacheprovider"]\n'
         + f"pytest_add_cli_args_test_selection = [{tests}]\n"
@@ -280,7 +296,11 @@ def summary(module: str) -> dict | None:
 
 
 #: what the functions of :data:`FUNCTIONS` are, in the table
-PART = {"runs/study_table.py": "the table"}
+PART = {
+    "runs/study_table.py": "the table",
+    "sim/debris.py": "the ground's height",
+    "tasks/kick.py": "fitness, descriptors",
+}
 
 
 def label(module: str) -> str:
@@ -366,10 +386,14 @@ def main(argv: list[str] | None = None) -> None:
         if not args.no_run:
             wall = run(module, args.max_children, args.survivors)
             print(f"{module}: mutmut ran {wall / 60:.1f} min")
+    results = {m: summary(m) for m in MODULES}
     if not (args.modules or args.survivors or args.no_run):
         minutes = (time.monotonic() - start) / 60
-        LAST_RUN.write_text(f"{minutes:.1f} min, {time.strftime('%Y-%m-%d')}")
-    results = {m: summary(m) for m in MODULES}
+        mutants = sum(r["mutants"] for r in results.values() if r)
+        LAST_RUN.write_text(
+            f"{minutes:.1f} min for its {len(MODULES)} modules then "
+            f"({mutants:,} mutants), {time.strftime('%Y-%m-%d')}"
+        )
     write_doc(results)
     for module, s in results.items():
         if s is not None:

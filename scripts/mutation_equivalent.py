@@ -38,6 +38,10 @@ _RIBS_FLOATS = (
 _REPLAY_M = (
     "each replayed row goes through tell, whose check_descriptors makes it float64"
 )
+_TRUE_DIVISION = (
+    "the point's cell is (x - x0) / cell, a true division: integer x or y "
+    "give the same cell as their floats"
+)
 _TEMPLATE = "a type template for coerce: only its type is read"
 _ZIP = (
     "the lengths were compared just above: a row (or array) of another "
@@ -386,4 +390,20 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
     "locustjump.evo.qd.xǁQDOptimizerǁ_set_state__mutmut_31": ("strict=None", _ZIP),
     "locustjump.evo.qd.xǁQDOptimizerǁ_set_state__mutmut_34": ("zip(f, m, )", _ZIP),
     "locustjump.evo.qd.xǁQDOptimizerǁ_set_state__mutmut_35": ("strict=False", _ZIP),
+    "locustjump.sim.debris.xǁDebrisǁheights__mutmut_12": (
+        "np.asarray(x, None)",
+        _TRUE_DIVISION,
+    ),
+    "locustjump.sim.debris.xǁDebrisǁheights__mutmut_14": (
+        "np.asarray(x, )",
+        _TRUE_DIVISION,
+    ),
+    "locustjump.sim.debris.xǁDebrisǁheights__mutmut_16": (
+        "np.asarray(y, None)",
+        _TRUE_DIVISION,
+    ),
+    "locustjump.sim.debris.xǁDebrisǁheights__mutmut_18": (
+        "np.asarray(y, )",
+        _TRUE_DIVISION,
+    ),
 }

@@ -62,3 +62,15 @@ def test_heights_read_the_cell_a_point_falls_in_and_zero_outside():
     off_y = np.array([y0 + 1.5 * cell, y0 + 1.5 * cell, y0 + ny * cell + 1e-9])
     np.testing.assert_array_equal(field.heights(off_x, off_y, BL), 0.0)
     assert field.heights(np.array([x0 + 0.5 * cell]), np.array([y0 - 1e-9]), BL) == 0
+
+
+def test_every_cell_is_read_the_first_and_the_last(monkeypatch):
+    # (a field's edge cells hold no box top in practice, so a made grid)
+    grid = np.arange(1.0, 13.0).reshape(3, 4)
+    monkeypatch.setattr(rubble, "height_grid", lambda d, bl: (-1.0, 2.0, 0.5, grid))
+    i, j = np.meshgrid(np.arange(3), np.arange(4), indexing="ij")
+    x, y = -1.0 + (i + 0.5) * 0.5, 2.0 + (j + 0.5) * 0.5
+    np.testing.assert_array_equal(Debris(seed=4).heights(x, y, BL), grid)
+    np.testing.assert_array_equal(
+        Debris(seed=4).heights([-1.1, 0.6], [2.1, 2.1], BL), 0
+    )
