@@ -31,7 +31,8 @@ This notebook walks through locustjump's Python API in five steps:
    behaviours (`results/paper-seed0`),
 5. use the kick as a **Gymnasium** environment.
 
-Run it from a clone after `make demo` (or `pip install -e '.[video,gym]'`),
+Run it from a clone after `make test` (or `pip install -e '.[video,gym]'`:
+`make demo` installs no Gymnasium, which step 5 needs),
 with Jupyter installed in that environment (`pip install jupyterlab`), from the
 `docs/` folder or the repository root. The budget below is small on purpose
 (about a minute on two cores); raise `GENERATIONS` for a kick that jumps like

@@ -285,14 +285,17 @@ def build_parser() -> argparse.ArgumentParser:
         type=ranged("--from-deg", ROLL_DEG),
         default=90.0,
         metavar="DEG",
-        help=f"first start roll angle, {accepts(ROLL_DEG)} (default 90: on its side)",
+        help=f"where the sweep starts: start states lie at the centres of the "
+        f"--step-deg bins from here to --to-deg, {accepts(ROLL_DEG)} (default 90: "
+        "on its side)",
     )
     p.add_argument(
         "--to-deg",
         type=ranged("--to-deg", ROLL_DEG),
         default=270.0,
         metavar="DEG",
-        help=f"last start roll angle, {accepts(ROLL_DEG)}, included (default 270)",
+        help=f"where the sweep ends (its last bin's far edge), {accepts(ROLL_DEG)} "
+        "(default 270)",
     )
     add_scene(p, of_run=True)
     add_backend(p)
