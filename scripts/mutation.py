@@ -89,6 +89,8 @@ MODULES: dict[str, tuple[str, ...]] = {
     "tasks/repertoire.py": ("tests/test_repertoire.py",),
     # the ground's height on debris, which every debris fitness subtracts
     "sim/debris.py": ("tests/test_rubble.py",),
+    # the jumps, falls and heights every results table counts
+    "sim/analysis.py": ("tests/test_analysis.py",),
 }
 
 #: modules of which only some functions are mutated (mutmut's name patterns):

@@ -42,6 +42,29 @@ _TRUE_DIVISION = (
     "the point's cell is (x - x0) / cell, a true division: integer x or y "
     "give the same cell as their floats"
 )
+_EDGES_FLOAT = "the edges are compared with 1 and -1, which floats hold exactly"
+_RISE_FALL = (
+    "the stretch mask is padded with 0 at both ends, so it has as many rises "
+    "as falls: zip's strictness is never tested"
+)
+_PLATEAU = (
+    "the later points of a flat-bottomed dip repeat the first one's test with "
+    "nothing to gain: the stretch between them is as high as the point, so no "
+    "split is made there (nor at a stretch's flat start, 0 below its start)"
+)
+_PROMINENCE = (
+    "for the default creature 0.2 body lengths is an odd multiple of 2**-56 m "
+    "and every high point is above 0.125 m, where doubles step by 2**-55 or "
+    "more, so no difference of two heights equals it: > and >= never differ"
+)
+_COUNT_FLOAT = (
+    "the window sums of 0s and 1s are whole numbers, exact in floats, and "
+    "compared with n exactly"
+)
+_SORT_CASE = (
+    "NumPy reads the sort kind case-insensitively (checked: the same order as "
+    "'stable' where the default sort differs)"
+)
 _TEMPLATE = "a type template for coerce: only its type is read"
 _ZIP = (
     "the lengths were compared just above: a row (or array) of another "
@@ -124,11 +147,7 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
         _GEN0,
     ),
     "locustjump.evo.rcga.xǁRCGAǁ_tell__mutmut_6": ("self.generation > 0 else 1", _GEN0),
-    "locustjump.evo.rcga.xǁRCGAǁ_tell__mutmut_18": (
-        'kind="STABLE"',
-        "NumPy reads the sort kind case-insensitively (checked: the same "
-        "order as 'stable' where the default sort differs)",
-    ),
+    "locustjump.evo.rcga.xǁRCGAǁ_tell__mutmut_18": ('kind="STABLE"', _SORT_CASE),
     "locustjump.rundir.metrics.x_parse_row__mutmut_10": ("strict=None", _ZIP),
     "locustjump.rundir.metrics.x_parse_row__mutmut_13": ("zip(names, cells, )", _ZIP),
     "locustjump.rundir.metrics.x_parse_row__mutmut_14": ("strict=False", _ZIP),
@@ -406,4 +425,35 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
         "np.asarray(y, )",
         _TRUE_DIVISION,
     ),
+    "locustjump.sim.analysis.x_find_jumps__mutmut_21": (
+        "high.astype(None)",
+        _EDGES_FLOAT,
+    ),
+    "locustjump.sim.analysis.x_find_jumps__mutmut_34": ("strict=None", _RISE_FALL),
+    "locustjump.sim.analysis.x_find_jumps__mutmut_37": (
+        "zip(starts, ends, )",
+        _RISE_FALL,
+    ),
+    "locustjump.sim.analysis.x_find_jumps__mutmut_38": ("strict=False", _RISE_FALL),
+    "locustjump.sim.analysis.x_find_jumps__mutmut_50": (
+        "(seg[1:-1] <= seg[:-2])",
+        _PLATEAU,
+    ),
+    "locustjump.sim.analysis.x_find_jumps__mutmut_60": (
+        "z[s:k].max() - z[k] >= prom",
+        _PROMINENCE,
+    ),
+    "locustjump.sim.analysis.x_find_jumps__mutmut_62": (
+        "z[k:b].max() - z[k] >= prom",
+        _PROMINENCE,
+    ),
+    "locustjump.sim.analysis.x_stuck_overturned__mutmut_20": (
+        "np.ones(n, None)",
+        _COUNT_FLOAT,
+    ),
+    "locustjump.sim.analysis.x_stuck_overturned__mutmut_22": (
+        "np.ones(n, )",
+        _COUNT_FLOAT,
+    ),
+    "locustjump.sim.analysis.x_ground_profile__mutmut_9": ('kind="STABLE"', _SORT_CASE),
 }
