@@ -122,6 +122,8 @@ FUNCTIONS: dict[str, tuple[str, ...]] = {
     "tasks/composed.py": (
         "locustjump.tasks.composed.x_successive_fitness__mutmut_*",
         "locustjump.tasks.composed.x_successive_terms__mutmut_*",
+        "locustjump.tasks.composed.x_overturns__mutmut_*",
+        "locustjump.tasks.composed.xǁHeightRewardǁ*",
     ),
     # the ground's height (the rest is the scene's MJCF, checked by physics)
     "sim/debris.py": ("locustjump.sim.debris.xǁDebrisǁheights__mutmut_*",),
@@ -302,6 +304,7 @@ PART = {
     "runs/study_table.py": "the table",
     "sim/debris.py": "the ground's height",
     "tasks/kick.py": "fitness, descriptors",
+    "tasks/composed.py": "fitness, falls and recoveries",
 }
 
 

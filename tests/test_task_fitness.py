@@ -187,3 +187,42 @@ def test_eq4_takes_any_leading_shape_and_its_flat_distance_is_zeros_like_it():
     np.testing.assert_array_equal(height, expected)
     assert distance.shape == (2, 3) and distance.dtype == np.float64
     assert not distance.any()
+
+
+def test_falls_and_recoveries_count_from_upright_to_overturned_and_back():
+    from locustjump.tasks.composed import OVERTURNED_UZ, overturns
+
+    assert (OVERTURNED_UZ, SUCCESS_UZ) == (0.0, 0.9)
+    assert overturns(np.array([0.9, -1e-9])) == (1, 0)  # upright at 0.9 exactly
+    assert overturns(np.array([0.9 - 1e-9, -1.0])) == (0, 0)  # never upright
+    assert overturns(np.array([1.0, 0.0, 0.5])) == (0, 0)  # 0 is not overturned
+    assert overturns(np.array([1.0, -0.5, -0.9, 0.9])) == (1, 1)  # back at 0.9
+    assert overturns(np.array([1.0, -0.5, 0.9 - 1e-9])) == (1, 0)
+    # a start on its side: upright first (not a recovery), then a fall and back
+    assert overturns(np.array([0.0, 0.95, -0.2, 0.95])) == (1, 1)
+    # lying overturned counts once; two falls, one recovery
+    assert overturns(np.array([1.0, -0.5, -0.5, 0.95, -0.1, -0.3])) == (2, 1)
+    assert overturns(np.array([1.0, -0.5, 0.95, -0.5, 0.95, -0.5, 0.95])) == (3, 3)
+
+
+def test_the_dense_successive_reward_adds_height_and_progress_step_by_step():
+    from locustjump.sim.scene import Debris, Terrains
+    from locustjump.tasks import get_behaviour
+
+    flat = get_behaviour("monolithic").reward(P)
+    q0, q1 = np.zeros(7), np.zeros(7)
+    q0[:3], q1[:3] = (0.1, 0.0, 0.2), (0.3, 0.0, 0.25)
+    flat.reset(q0, np.zeros(9))
+    assert flat.step(q1, np.zeros(9)) == 0.25  # Eq. 4's z, no progress term
+    beh = get_behaviour("monolithic", terrains=Terrains(Debris(seed=0)))
+    x, y, *_, h = beh.scene.boxes(P.body_length)[0]
+    reward = beh.reward(P)
+    q0[:3], q1[:3] = (x - 0.01, y, 0.3), (x, y, h + 0.2)
+    reward.reset(q0, np.zeros(9))
+    assert reward.step(q1, np.zeros(9)) == pytest.approx(0.2 + PROGRESS_WEIGHT * 0.01)
+    q2 = q1.copy()
+    q2[0] = x - 0.02  # back: the progress term is negative
+    assert reward.step(q2, np.zeros(9)) == pytest.approx(
+        float(h + 0.2 - beh.scene.heights(q2[0], y, P.body_length))
+        - PROGRESS_WEIGHT * 0.02
+    )
