@@ -78,6 +78,8 @@ MODULES: dict[str, tuple[str, ...]] = {
     "present/stats.py": ("tests/test_stats.py",),
     # the study table those claims are read from: its cells, budgets, pairs
     "runs/study_table.py": ("tests/test_study_table.py", "tests/test_late_gain.py"),
+    # the gain in the last third and the declared flattening rule it decides
+    "runs/learning.py": ("tests/test_late_gain.py", "tests/test_study_table.py"),
     # the height-only ablation of issue #45: its answer rests on this fitness
     "tasks/height_only.py": ("tests/test_height_only.py",),
     # quality diversity (issue #46): descriptors, the archive, the optimizers
@@ -131,7 +133,6 @@ FUNCTIONS: dict[str, tuple[str, ...]] = {
     "runs/study_table.py": tuple(
         f"locustjump.runs.study_table.x_{f}__mutmut_*"
         for f in (
-            "late_gain",
             "make_table",
             "_compared",
             "_med",

@@ -278,8 +278,8 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
         "no float ratio r has r - 1 == 0.02 exactly (r - 1 is exact near 1, and "
         "1 + 0.02 is not a double), so > and >= never differ",
     ),
-    "locustjump.runs.study_table.x_late_gain__mutmut_4": ("dtype=None", _FLOAT_BEST),
-    "locustjump.runs.study_table.x_late_gain__mutmut_6": (
+    "locustjump.runs.learning.x_late_gain__mutmut_4": ("dtype=None", _FLOAT_BEST),
+    "locustjump.runs.learning.x_late_gain__mutmut_6": (
         "np.asarray(best, )",
         _FLOAT_BEST,
     ),

@@ -5,7 +5,7 @@ third of generations."""
 import numpy as np
 import pytest
 
-from locustjump.runs.study_table import late_gain
+from locustjump.runs.learning import flat_note, late_gain
 
 
 def test_an_elitist_curve():
@@ -39,3 +39,18 @@ def test_negative_fitness_and_short_runs():
     assert late_gain(np.array([1.0, 2.0, 3.0])) == pytest.approx(0.5)
     # a gain below 1 in fitness units counts as a gain
     assert late_gain(np.array([0.0, 0.1, 0.2, 0.3, 0.4, 0.5])) == pytest.approx(0.4)
+
+
+def test_the_flattening_rule_marks_each_arm_and_reads_at_its_limit():
+    arms = {
+        "p": {"label": "pipeline", "budget": {"late_gain": 0.06}},
+        "m": {"label": "one network", "budget": {"late_gain": 0.05}},
+        "z": {"label": "still", "budget": {"late_gain": 0.0}},
+    }
+    note = flat_note(0.05, arms)
+    assert note == (
+        "Flat by the study's declared rule (the median gain in the last third at "
+        "most 5.0%): pipeline no (6.0%); one network yes (5.0%); still yes (0.0%)."
+    )
+    assert [a["flat"] for a in arms.values()] == [False, True, True]
+    assert all(type(a["flat"]) is bool for a in arms.values())  # JSON-able

@@ -7,19 +7,23 @@ from pathlib import Path
 
 import pytest
 
+from locustjump.errors import UserError
 from locustjump.runs import study_table as st
 from locustjump.runs.studyfile import load_study
 
 
 def _study(tmp_path: Path, *, reference: str | None = "b", margin: str = "0.5",
            currency: str = "evaluations", seeds: str = "0-2",
-           arms: str = "abc", held_out: bool = True) -> object:  # fmt: skip
+           arms: str = "abc", held_out: bool = True,
+           flat: str = "") -> object:  # fmt: skip
     head = ['name = "t"', f'root = "{tmp_path}"', f'seeds = "{seeds}"',
             f'currency = "{currency}"']  # fmt: skip
     if margin:
         head.append(f"margin = {margin}")
     if reference:
         head.append(f'reference = "{reference}"')
+    if flat:
+        head.append(f"flat_gain = {flat}")
     text = "\n".join(head) + '\n[defaults]\nbehaviour = "kick"\n'
     text += "[evaluation]\nsubsteps = [3, 12]\n"
     if held_out:
@@ -238,3 +242,31 @@ def test_an_episode_without_a_diagnostic_counts_out_of_its_mean_and_max():
     assert st._mean(eps, "wall") == 0.5 and st._max(eps, "wall") == 0.5
     assert st._mean(eps, "none") is None and st._max(eps, "none") is None
     assert st._mean([], "fitness") is None
+
+
+def test_the_declared_flattening_rule_says_which_arms_are_flat(tmp_path):
+    # median late gain: arm a 10 % (0, 10, 20 %), b and c 10 % each
+    md, data = st.make_table(_study(tmp_path, flat="0.1"), _rows())
+    assert ("Flat by the study's declared rule (the median gain in the last "
+            "third at most 10.0%): arm A yes (10.0%); arm B yes (10.0%); "
+            "arm C yes (10.0%).") in md  # fmt: skip
+    assert all(data["arms"][a]["flat"] for a in "abc")
+    # the line follows the budget note, the rest of the table as it was
+    plain, _ = st.make_table(_study(tmp_path), _rows())
+    note = st._budget_note(_study(tmp_path), data["arms"])
+    head, tail = plain.split(note + "\n", 1)
+    flat_line = md.split(note + "\n\n", 1)[1].split("\n", 1)[0]
+    assert flat_line.startswith("Flat by the study's declared rule")
+    assert md == head + note + "\n\n" + flat_line + "\n" + tail
+    md, data = st.make_table(_study(tmp_path, flat="0.05"), _rows())
+    assert "at most 5.0%): arm A no (10.0%); arm B no (10.0%)" in md
+    assert not any(data["arms"][a]["flat"] for a in "abc")
+    md, data = st.make_table(_study(tmp_path), _rows())  # none declared
+    assert "Flat by" not in md and "flat" not in data["arms"]["a"]
+
+
+@pytest.mark.parametrize("bad", ["0", "-0.1", "1.5", '"5%"', "true", "nan"])
+def test_a_flattening_rule_outside_0_to_1_is_named(tmp_path, bad):
+    with pytest.raises(UserError, match=r"t.toml: flat_gain must be"):
+        _study(tmp_path, flat=bad)
+    assert _study(tmp_path, flat="1").flat_gain == 1.0

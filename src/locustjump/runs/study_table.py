@@ -39,6 +39,7 @@ from locustjump.errors import UserError
 from locustjump.present.compare import Group, convergence_figure
 from locustjump.present.episodes import score_run
 from locustjump.present.stats import Comparison, compare_samples, pairs_table
+from locustjump.runs.learning import flat_note, late_gain
 from locustjump.runs.study import check_run, states
 from locustjump.runs.studyarms import Arm
 from locustjump.runs.studyfile import Study
@@ -60,22 +61,6 @@ FIGURE = "learning.png"
 BUDGET_TOLERANCE = 0.02
 #: columns of the metrics that count a run's budget, per currency
 CURRENCY_COLUMN = {"evaluations": "evaluations", "control-steps": "control_steps"}
-
-
-def late_gain(best: np.ndarray) -> float:
-    """The share of a run's whole improvement made in its last third of
-    generations: of its best so far, (last - at two thirds) / (last -
-    first); 0 where it was flat by then or never improved, 1 where all of it
-    came late. ``best`` is each generation's best; the curve is the best so
-    far, as the learning figure draws it, so an optimizer that keeps no
-    elite (random search, CMA-ES) gains no less than 0; a share of the
-    improvement, not of the final fitness, reads the same for fitness below
-    0 (return-legs) or offset by a constant."""
-    so_far = np.maximum.accumulate(np.asarray(best, dtype=float))
-    whole = so_far[-1] - so_far[0] if len(so_far) >= 3 else 0.0
-    if whole <= 0:
-        return 0.0
-    return float((so_far[-1] - so_far[len(so_far) * 2 // 3 - 1]) / whole)
 
 
 def spent(study: Study, arm: Arm, seed: int) -> dict[str, int]:
@@ -230,6 +215,8 @@ def make_table(study: Study, rows: list[dict[str, Any]]) -> tuple[str, dict[str,
             f"{med['train_fitness']:.4g} | {med['late_gain']:.0%} |"
         )
     md += ["", _budget_note(study, out["arms"])]
+    if study.flat_gain is not None:
+        md += ["", flat_note(study.flat_gain, out["arms"])]
     for sub in ev.substeps:
         s = str(sub)
         md += [

@@ -12,6 +12,10 @@ A study file is TOML::
     margin = 0.5                  # equivalence margin, fitness units (optional)
     reference = "rcga"            # the arm every other is compared with
                                   # (default: every pair of scored arms)
+    flat_gain = 0.05              # learning curves count as flat when the median
+                                  # share of a run's improvement made in its last
+                                  # third is at most this (optional; the table
+                                  # says which arms' are)
 
     [defaults]                    # config.toml keys every arm starts from
     behaviour = "kick"
@@ -55,7 +59,7 @@ from typing import Any
 from locustjump import rundir
 from locustjump.errors import UserError, setting_ref
 from locustjump.present.compare import MARGIN
-from locustjump.ranges import SettingError
+from locustjump.ranges import Range, SettingError
 from locustjump.runs.multiseed import parse_seeds
 from locustjump.runs.studyarms import Arm, parse_arms
 
@@ -63,7 +67,9 @@ from locustjump.runs.studyarms import Arm, parse_arms
 CURRENCIES = ("evaluations", "control-steps")
 #: the keys of a study file's top level
 TOP_KEYS = ("name", "root", "out", "seeds", "currency", "margin", "reference",
-            "defaults", "evaluation", "arms")  # fmt: skip
+            "flat_gain", "defaults", "evaluation", "arms")  # fmt: skip
+#: ``flat_gain``: a share of a run's improvement, more than 0, at most 1
+FLAT_GAIN = Range(0.0, 1.0, lo_open=True)
 EVALUATION_KEYS = ("terrain_seeds", "substeps")
 #: most substeps a study scores at (a control step is 1/120 s)
 MAX_SUBSTEPS = 96
@@ -92,6 +98,10 @@ class Study:
     reference: str | None
     evaluation: Evaluation
     arms: dict[str, Arm]  # in an order where every arm follows those it builds on
+    #: an arm's learning curves are flat when the median over its seeds of the
+    #: share of a run's improvement made in its last third is at most this
+    #: (declared by the study; the table applies it)
+    flat_gain: float | None = None
 
     @property
     def scored(self) -> list[Arm]:
@@ -148,6 +158,12 @@ def load_study(path: str | os.PathLike[str], seeds: str | None = None) -> Study:
             margin = MARGIN.check("margin", margin)
         except SettingError as e:
             raise UserError(f"{src}: {e}") from None
+    flat_gain = d.get("flat_gain")
+    if flat_gain is not None:
+        try:
+            flat_gain = FLAT_GAIN.check("flat_gain", flat_gain)
+        except SettingError as e:
+            raise UserError(f"{src}: {e}") from None
     arms = parse_arms(d.get("arms"), d.get("defaults", {}), root, src)
     reference = d.get("reference")
     if reference is not None and (reference not in arms or not arms[reference].score):
@@ -158,7 +174,7 @@ def load_study(path: str | os.PathLike[str], seeds: str | None = None) -> Study:
     _held_out(arms, all_seeds, evaluation, src)
     return Study(
         name, path, root, out, all_seeds, currency,
-        margin, reference, evaluation, arms,
+        margin, reference, evaluation, arms, flat_gain,
     )  # fmt: skip
 
 
