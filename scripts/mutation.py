@@ -269,10 +269,15 @@ def listed(name: str, line: str) -> str | None:
     """Why mutant ``name`` (its mutated line ``line``) is equivalent, if
     :data:`EQUIVALENT` lists it: an entry of the same function whose mutated
     text the line holds (mutmut numbers a function's mutants in order, so a
-    change to the function may move the number, not the text)."""
+    change to the function may move the number, not the text). The text is
+    looked for in what the mutant writes (after ``+``), or in what it
+    removes where it writes nothing, so that an entry for one change of a
+    line excuses no other change of it."""
     function = name.rpartition("__mutmut_")[0]
+    _, plus, written = line.partition(" | + ")
+    changed = plus.lstrip(" |") + written if plus else line
     for entry, (text, why) in EQUIVALENT.items():
-        if entry.rpartition("__mutmut_")[0] == function and text in line:
+        if entry.rpartition("__mutmut_")[0] == function and text in changed:
             return why
     return None
 

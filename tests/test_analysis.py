@@ -82,6 +82,24 @@ def test_a_shallow_dip_does_not_split_the_jump():
     assert len(find_jumps(q, P)) == 2
 
 
+def test_a_dip_of_exactly_the_prominence_is_no_landing():
+    # a creature of a tenth of the size (body length 5 cm), where two heights
+    # can differ by exactly 0.2 body lengths in floats
+    small = lm.LocustParams(scale=1.0)
+    stand, thr = lm.standing_height(small), JUMP_THRESHOLD_BL * small.body_length
+    prom = BOUNCE_PROMINENCE_BL * small.body_length
+    low = 0.014264213154933035
+    high = low + prom
+    assert high - low == prom and low > stand + thr
+    rise = stand + 1.5 * thr
+    for z in (np.array([0.0, rise, high, low, 2 * high, rise, 0.0]),
+              np.array([0.0, rise, 2 * high, low, high, rise, 0.0])):  # fmt: skip
+        # exactly the prominence on one side (more on the other): no landing
+        assert len(find_jumps(_traj(z), small)) == 1  # more than, not at least
+        z[3] = np.nextafter(low, 0.0)  # a hair lower: a landing
+        assert len(find_jumps(_traj(z), small)) == 2
+
+
 def test_a_dip_must_be_prominent_on_both_sides():
     z = STAND + THR + np.array([0.1, 0.5, 0.2, 0.25, 0.28, 0.2])
     # 0.3 below the apex before it, 0.08 to the high after it: no split
@@ -111,7 +129,6 @@ def test_on_debris_a_jump_is_above_the_ground_under_it():
     assert find_jumps(q, P, field) == []  # standing on the box
     assert len(find_jumps(q, P)) == 1  # its top, on the flat floor, is a jump
     np.testing.assert_allclose(clearance(q, P, field), STAND, atol=1e-12)
-    assert clearance(q, P, Flat()) is not None
     np.testing.assert_array_equal(clearance(q, P, Flat()), q[:, 2])
     # the default scene is the flat floor
     np.testing.assert_array_equal(clearance(q), q[:, 2])
@@ -175,8 +192,7 @@ def test_the_ground_under_a_path_that_stood_still_is_under_its_last_position():
     ys = np.r_[np.full(50, y), np.linspace(y, y - 3.0, 199), [y]]
     q = _traj(np.full(len(xs), 0.2), x=xs, y=ys)
     gx, gh = ground_profile(q, P, field, points=2001)
-    order = np.argsort(xs, kind="stable")  # ties in time order
-    want = field.heights(gx, np.interp(gx, xs[order], ys[order]), P.body_length)
-    np.testing.assert_array_equal(gh, want)
-    after = (gx > x) & (gx < x + 0.001)  # just past where it stood: the box
-    assert after.any() and (gh[after] == h).all()
+    # either side of where it stood, the ground under its first and its last
+    # position there (in time), both on the box: not any other of its 200
+    near = (np.abs(gx - x) < 0.02) & (gx != x)
+    assert near.sum() >= 4 and (gh[near] == h).all()

@@ -43,14 +43,14 @@ def test_negative_fitness_and_short_runs():
 
 def test_the_flattening_rule_marks_each_arm_and_reads_at_its_limit():
     arms = {
-        "p": {"label": "pipeline", "budget": {"late_gain": 0.06}},
+        "p": {"label": "pipeline", "budget": {"late_gain": 0.0504}},
         "m": {"label": "one network", "budget": {"late_gain": 0.05}},
         "z": {"label": "still", "budget": {"late_gain": 0.0}},
     }
     note = flat_note(0.05, arms)
     assert note == (
         "Flat by the study's declared rule (the median gain in the last third at "
-        "most 5.0%): pipeline no (6.0%); one network yes (5.0%); still yes (0.0%)."
+        "most 5.00%): pipeline no (5.04%); one network yes (5.00%); still yes (0.00%)."
     )
     assert [a["flat"] for a in arms.values()] == [False, True, True]
     assert all(type(a["flat"]) is bool for a in arms.values())  # JSON-able

@@ -225,6 +225,7 @@ def test_a_state_whose_archive_differs_from_its_replay_is_refused(key):
         x = opt.ask()
         opt.tell(*_problem(x))
     state = opt.state()
+    assert len(state[f"archive_{key}"]) > 1  # something to break
     for bad in (state[f"archive_{key}"][:-1], state[f"archive_{key}"][::-1].copy()):
         if np.array_equal(bad, state[f"archive_{key}"]):
             continue

@@ -74,3 +74,16 @@ def test_every_cell_is_read_the_first_and_the_last(monkeypatch):
     np.testing.assert_array_equal(
         Debris(seed=4).heights([-1.1, 0.6], [2.1, 2.1], BL), 0
     )
+
+
+def test_single_precision_points_read_as_their_double_values():
+    # float32 points on the cell edges: their cells are those of the same
+    # values in float64 (worked out in single precision, some fall a cell off)
+    field = Debris(seed=4)
+    x0, y0, cell, grid = rubble.height_grid(field, BL)
+    i, j = np.nonzero(grid)
+    x = (x0 + i * cell).astype(np.float32)
+    y = (y0 + j * cell).astype(np.float32)
+    np.testing.assert_array_equal(
+        field.heights(x, y, BL), field.heights(x.astype(float), y.astype(float), BL)
+    )

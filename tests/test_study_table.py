@@ -248,8 +248,8 @@ def test_the_declared_flattening_rule_says_which_arms_are_flat(tmp_path):
     # median late gain: arm a 10 % (0, 10, 20 %), b and c 10 % each
     md, data = st.make_table(_study(tmp_path, flat="0.1"), _rows())
     assert ("Flat by the study's declared rule (the median gain in the last "
-            "third at most 10.0%): arm A yes (10.0%); arm B yes (10.0%); "
-            "arm C yes (10.0%).") in md  # fmt: skip
+            "third at most 10.00%): arm A yes (10.00%); arm B yes (10.00%); "
+            "arm C yes (10.00%).") in md  # fmt: skip
     assert all(data["arms"][a]["flat"] for a in "abc")
     # the line follows the budget note, the rest of the table as it was
     plain, _ = st.make_table(_study(tmp_path), _rows())
@@ -259,7 +259,7 @@ def test_the_declared_flattening_rule_says_which_arms_are_flat(tmp_path):
     assert flat_line.startswith("Flat by the study's declared rule")
     assert md == head + note + "\n\n" + flat_line + "\n" + tail
     md, data = st.make_table(_study(tmp_path, flat="0.05"), _rows())
-    assert "at most 5.0%): arm A no (10.0%); arm B no (10.0%)" in md
+    assert "at most 5.00%): arm A no (10.00%); arm B no (10.00%)" in md
     assert not any(data["arms"][a]["flat"] for a in "abc")
     md, data = st.make_table(_study(tmp_path), _rows())  # none declared
     assert "Flat by" not in md and "flat" not in data["arms"]["a"]

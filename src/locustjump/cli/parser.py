@@ -294,8 +294,8 @@ def build_parser() -> argparse.ArgumentParser:
         type=ranged("--to-deg", ROLL_DEG),
         default=270.0,
         metavar="DEG",
-        help=f"where the sweep ends (its last bin's far edge), {accepts(ROLL_DEG)} "
-        "(default 270)",
+        help=f"where the sweep ends: the whole --step-deg bins that fit before "
+        f"it hold start states, {accepts(ROLL_DEG)} (default 270)",
     )
     add_scene(p, of_run=True)
     add_backend(p)

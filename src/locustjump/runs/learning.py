@@ -37,8 +37,8 @@ def flat_note(limit: float, arms: Mapping[str, dict[str, Any]]) -> str:
     for arm in arms.values():
         gain = arm["budget"]["late_gain"]
         arm["flat"] = bool(gain <= limit)
-        parts.append(f"{arm['label']} {'yes' if arm['flat'] else 'no'} ({gain:.1%})")
+        parts.append(f"{arm['label']} {'yes' if arm['flat'] else 'no'} ({gain:.2%})")
     return (
         "Flat by the study's declared rule (the median gain in the last third "
-        f"at most {limit:.1%}): " + "; ".join(parts) + "."
+        f"at most {limit:.2%}): " + "; ".join(parts) + "."
     )

@@ -67,7 +67,7 @@ def find_jumps(
     A jump is a stretch where the body centre is more than ``JUMP_THRESHOLD_BL``
     body lengths above its standing height. A stretch is split where the body
     bounces off the ground without coming that low (landing on its legs or its
-    side): in flight z is concave, so a local minimum of z with at least
+    side): in flight z is concave, so a local minimum of z with more than
     ``BOUNCE_PROMINENCE_BL`` of rise on both sides is a landing.
     """
     z = clearance(qpos, p, scene)
