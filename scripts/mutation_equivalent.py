@@ -57,6 +57,16 @@ _SORT_CASE = (
     "NumPy reads the sort kind case-insensitively (checked: the same order as "
     "'stable' where the default sort differs)"
 )
+_NOT_1D = "any k below 0 is refused by the same check (0 <= k)"
+_NO_KIND_X = "NumPy has no dtype kind 'X': only 'i' and 'u' can match either way"
+_RESHAPE_NEG = (
+    "NumPy 2 reads any negative size in reshape as the one unknown dimension "
+    "(checked: reshape(2, -2, 3) of 12 values is (2, 2, 3))"
+)
+_DIMS_INT = (
+    "a tuple of Python ints makes an int64 array (the default integer on Linux "
+    "with NumPy 1 or 2, on every platform with NumPy 2)"
+)
 _TEMPLATE = "a type template for coerce: only its type is read"
 _ZIP = (
     "the lengths were compared just above: a row (or array) of another "
@@ -424,4 +434,27 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
         _COUNT_FLOAT,
     ),
     "locustjump.sim.analysis.x_ground_profile__mutmut_9": ('kind="STABLE"', _SORT_CASE),
+    "locustjump.rundir.archive.x_read_archive__mutmut_122": ("else -2", _NOT_1D),
+    "locustjump.rundir.archive.x_read_archive__mutmut_134": ('"XXiuXX"', _NO_KIND_X),
+    "locustjump.rundir.archive.x_read_archive__mutmut_77": (
+        "reshape(-2)",
+        _RESHAPE_NEG,
+    ),
+    "locustjump.rundir.archive.x_read_archive__mutmut_85": (
+        "reshape(-2)",
+        _RESHAPE_NEG,
+    ),
+    "locustjump.rundir.archive.x_read_archive__mutmut_92": (
+        "reshape(-2)",
+        _RESHAPE_NEG,
+    ),
+    "locustjump.rundir.archive.x_read_archive__mutmut_99": (
+        "reshape(-2)",
+        _RESHAPE_NEG,
+    ),
+    "locustjump.rundir.archive.x_write_archive__mutmut_33": ("dtype=None", _DIMS_INT),
+    "locustjump.rundir.archive.x_write_archive__mutmut_35": (
+        "np.array(a.dims, )",
+        _DIMS_INT,
+    ),
 }
