@@ -110,6 +110,33 @@ _UPPER_F = (
     "finite) never is"
 )
 
+
+def _zip_strict(
+    function: str, numbers: tuple[int, int, int], args: str, why: str
+) -> dict[str, tuple[str, str]]:
+    """The three mutants of ``zip(ARGS, strict=True)`` in ``function`` (their
+    numbers in order: strict=None, the argument dropped, strict=False), which
+    are equivalent where the lengths zipped cannot differ (``why``)."""
+    texts = ("strict=None", f"zip({args}, )", "strict=False")
+    return {
+        f"{function}__mutmut_{n}": (text, why)
+        for n, text in zip(numbers, texts, strict=True)
+    }
+
+
+def _cast(
+    function: str, numbers: tuple[int, int], dropped: str, why: str
+) -> dict[str, tuple[str, str]]:
+    """The two mutants of a ``dtype=`` cast in ``function`` (their numbers in
+    order: ``dtype=None``, then the dtype dropped, whose mutated text is
+    ``dropped``), equivalent where the data already has that type (``why``)."""
+    texts = ("dtype=None", dropped)
+    return {
+        f"{function}__mutmut_{n}": (text, why)
+        for n, text in zip(numbers, texts, strict=True)
+    }
+
+
 EQUIVALENT: dict[str, tuple[str, str]] = {
     "locustjump.evo.rcga.x_sbx__mutmut_10": (
         "+ u < 0.5,",
@@ -150,9 +177,6 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
     ),
     "locustjump.evo.rcga.xǁRCGAǁ_tell__mutmut_6": ("self.generation > 0 else 1", _GEN0),
     "locustjump.evo.rcga.xǁRCGAǁ_tell__mutmut_18": ('kind="STABLE"', _SORT_CASE),
-    "locustjump.rundir.metrics.x_parse_row__mutmut_10": ("strict=None", _ZIP),
-    "locustjump.rundir.metrics.x_parse_row__mutmut_13": ("zip(names, cells, )", _ZIP),
-    "locustjump.rundir.metrics.x_parse_row__mutmut_14": ("strict=False", _ZIP),
     "locustjump.rundir.metrics.x_read_metrics__mutmut_10": (
         "if (rows) or True else",
         "np.array([], dtype) is the same empty array as np.zeros(0, dtype)",
@@ -184,9 +208,6 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
     "locustjump.rundir.config.x_coerce__mutmut_37": ("coerce(v, 1, ", _TEMPLATE),
     "locustjump.rundir.config.x_coerce__mutmut_1": ("item: Any = 1", _TEMPLATE),
     "locustjump.rundir.config.x_from_table__mutmut_11": ('get("item", 1)', _TEMPLATE),
-    "locustjump.rundir.config.x_coerce__mutmut_55": ("strict=None", _ZIP),
-    "locustjump.rundir.config.x_coerce__mutmut_58": ("zip(value, default, )", _ZIP),
-    "locustjump.rundir.config.x_coerce__mutmut_59": ("strict=False", _ZIP),
     "locustjump.sim.sensors.x_paper_inputs__mutmut_51": (
         "qpos[:, 3:8]",
         "up_axis_in_body reads the first four columns of what it is given",
@@ -280,17 +301,11 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
         "no float ratio r has r - 1 == 0.02 exactly (r - 1 is exact near 1, and "
         "1 + 0.02 is not a double), so > and >= never differ",
     ),
-    "locustjump.runs.learning.x_late_gain__mutmut_4": ("dtype=None", _FLOAT_BEST),
-    "locustjump.runs.learning.x_late_gain__mutmut_6": (
-        "np.asarray(best, )",
-        _FLOAT_BEST,
-    ),
     "locustjump.runs.study_table.x_make_table__mutmut_219": ("'.4F'", _UPPER_F),
     "locustjump.runs.study_table.x_make_table__mutmut_227": ("'.2F'", _UPPER_F),
     "locustjump.tasks.descriptors.x_describe__mutmut_30": (
         "reshape(terrains, -2, per_controller)",
-        "NumPy 2 reads any negative size in reshape as the one unknown "
-        "dimension (checked: reshape(2, -2, 3) of 12 values is (2, 2, 3))",
+        _RESHAPE_NEG,
     ),
     "locustjump.evo.archive.xǁArchiveǁqd_score__mutmut_4": ("kind=None", _UNIQUE_CELLS),
     "locustjump.evo.archive.xǁArchiveǁqd_score__mutmut_6": (
@@ -313,36 +328,6 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
         'kind="STABLE"',
         _UNIQUE_CELLS,
     ),
-    "locustjump.evo.archive.xǁArchiveǁat_cell__mutmut_9": ("strict=None", _ZIP),
-    "locustjump.evo.archive.xǁArchiveǁat_cell__mutmut_12": (
-        "zip(cell, self.dims, )",
-        _ZIP,
-    ),
-    "locustjump.evo.archive.xǁArchiveǁat_cell__mutmut_13": ("strict=False", _ZIP),
-    "locustjump.evo.map_elites.xǁMapElitesǁ_emitters__mutmut_38": (
-        "strict=None",
-        _PER_EMITTER,
-    ),
-    "locustjump.evo.map_elites.xǁMapElitesǁ_emitters__mutmut_42": (
-        "zip(starts, sizes, seeds, )",
-        _PER_EMITTER,
-    ),
-    "locustjump.evo.map_elites.xǁMapElitesǁ_emitters__mutmut_43": (
-        "strict=False",
-        _PER_EMITTER,
-    ),
-    "locustjump.evo.map_elites.xǁMapElitesǁ_emitters__mutmut_59": (
-        "strict=None",
-        _PER_EMITTER,
-    ),
-    "locustjump.evo.map_elites.xǁMapElitesǁ_emitters__mutmut_63": (
-        "zip(starts, sizes, seeds, )",
-        _PER_EMITTER,
-    ),
-    "locustjump.evo.map_elites.xǁMapElitesǁ_emitters__mutmut_64": (
-        "strict=False",
-        _PER_EMITTER,
-    ),
     "locustjump.evo.cma_me.xǁCMAMEǁ_emitters__mutmut_15": (
         'ranker="2imp"',
         _RIBS_DEFAULT,
@@ -359,68 +344,15 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
         'restart_rule="no_improvement"',
         _RIBS_DEFAULT,
     ),
-    "locustjump.evo.cma_me.xǁCMAMEǁ_emitters__mutmut_32": ("strict=None", _PER_EMITTER),
-    "locustjump.evo.cma_me.xǁCMAMEǁ_emitters__mutmut_35": (
-        "zip(p.batch_sizes(), seeds, )",
-        _PER_EMITTER,
-    ),
-    "locustjump.evo.cma_me.xǁCMAMEǁ_emitters__mutmut_36": (
-        "strict=False",
-        _PER_EMITTER,
-    ),
-    "locustjump.evo.qd.xǁQDOptimizerǁ_ask__mutmut_2": ("dtype=None", _FLOATS_ASK),
-    "locustjump.evo.qd.xǁQDOptimizerǁ_ask__mutmut_4": (
-        "np.asarray(self._scheduler.ask(), )",
-        _FLOATS_ASK,
-    ),
     "locustjump.evo.qd.xǁQDOptimizerǁ_tell_described__mutmut_4": ("dtype=None", _INT64),
     "locustjump.evo.qd.xǁQDOptimizerǁ_tell_described__mutmut_7": (
         "self.generation + 1, )",
         _INT64,
     ),
-    "locustjump.evo.qd.xǁQDOptimizerǁarchive__mutmut_40": ("dtype=None", _RIBS_FLOATS),
-    "locustjump.evo.qd.xǁQDOptimizerǁarchive__mutmut_42": (
-        'np.asarray(d["solution"], )',
-        _RIBS_FLOATS,
-    ),
-    "locustjump.evo.qd.xǁQDOptimizerǁarchive__mutmut_46": ("dtype=None", _RIBS_FLOATS),
-    "locustjump.evo.qd.xǁQDOptimizerǁarchive__mutmut_48": (
-        'np.asarray(d["objective"], )',
-        _RIBS_FLOATS,
-    ),
-    "locustjump.evo.qd.xǁQDOptimizerǁarchive__mutmut_52": ("dtype=None", _RIBS_FLOATS),
-    "locustjump.evo.qd.xǁQDOptimizerǁarchive__mutmut_54": (
-        'np.asarray(d["measures"], )',
-        _RIBS_FLOATS,
-    ),
-    "locustjump.evo.qd.xǁQDOptimizerǁarchive__mutmut_58": ("dtype=None", _RIBS_FLOATS),
-    "locustjump.evo.qd.xǁQDOptimizerǁarchive__mutmut_60": (
-        'np.asarray(d["generation"], )',
-        _RIBS_FLOATS,
-    ),
-    "locustjump.evo.qd.xǁQDOptimizerǁ_set_state__mutmut_13": ("dtype=None", _REPLAY),
-    "locustjump.evo.qd.xǁQDOptimizerǁ_set_state__mutmut_15": (
-        'np.asarray(state["fitness_history"], )',
-        _REPLAY,
-    ),
-    "locustjump.evo.qd.xǁQDOptimizerǁ_set_state__mutmut_20": ("dtype=None", _REPLAY_M),
-    "locustjump.evo.qd.xǁQDOptimizerǁ_set_state__mutmut_22": (
-        'np.asarray(state["descriptor_history"], )',
-        _REPLAY_M,
-    ),
-    "locustjump.evo.qd.xǁQDOptimizerǁ_set_state__mutmut_31": ("strict=None", _ZIP),
-    "locustjump.evo.qd.xǁQDOptimizerǁ_set_state__mutmut_34": ("zip(f, m, )", _ZIP),
-    "locustjump.evo.qd.xǁQDOptimizerǁ_set_state__mutmut_35": ("strict=False", _ZIP),
     "locustjump.sim.analysis.x_find_jumps__mutmut_21": (
         "high.astype(None)",
         _EDGES_FLOAT,
     ),
-    "locustjump.sim.analysis.x_find_jumps__mutmut_34": ("strict=None", _RISE_FALL),
-    "locustjump.sim.analysis.x_find_jumps__mutmut_37": (
-        "zip(starts, ends, )",
-        _RISE_FALL,
-    ),
-    "locustjump.sim.analysis.x_find_jumps__mutmut_38": ("strict=False", _RISE_FALL),
     "locustjump.sim.analysis.x_find_jumps__mutmut_50": (
         "(seg[1:-1] <= seg[:-2])",
         _PLATEAU,
@@ -452,8 +384,93 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
         "reshape(-2)",
         _RESHAPE_NEG,
     ),
-    "locustjump.rundir.archive.x_write_archive__mutmut_33": ("dtype=None", _DIMS_INT),
-    "locustjump.rundir.archive.x_write_archive__mutmut_35": (
+    # zip(..., strict=True) mutated three ways where the lengths cannot differ
+    **_zip_strict(
+        "locustjump.rundir.metrics.x_parse_row", (10, 13, 14), "names, cells", _ZIP
+    ),
+    **_zip_strict(
+        "locustjump.rundir.config.x_coerce", (55, 58, 59), "value, default", _ZIP
+    ),
+    **_zip_strict(
+        "locustjump.evo.archive.xǁArchiveǁat_cell", (9, 12, 13), "cell, self.dims", _ZIP
+    ),
+    **_zip_strict(
+        "locustjump.evo.map_elites.xǁMapElitesǁ_emitters",
+        (38, 42, 43),
+        "starts, sizes, seeds",
+        _PER_EMITTER,
+    ),
+    **_zip_strict(
+        "locustjump.evo.map_elites.xǁMapElitesǁ_emitters",
+        (59, 63, 64),
+        "starts, sizes, seeds",
+        _PER_EMITTER,
+    ),
+    **_zip_strict(
+        "locustjump.evo.cma_me.xǁCMAMEǁ_emitters",
+        (32, 35, 36),
+        "p.batch_sizes(), seeds",
+        _PER_EMITTER,
+    ),
+    **_zip_strict(
+        "locustjump.evo.qd.xǁQDOptimizerǁ_set_state", (31, 34, 35), "f, m", _ZIP
+    ),
+    **_zip_strict(
+        "locustjump.sim.analysis.x_find_jumps", (34, 37, 38), "starts, ends", _RISE_FALL
+    ),
+    # a cast mutated two ways (dtype=None, the dtype dropped) where the data
+    # already has the type cast to
+    **_cast(
+        "locustjump.runs.learning.x_late_gain",
+        (4, 6),
+        "np.asarray(best, )",
+        _FLOAT_BEST,
+    ),
+    **_cast(
+        "locustjump.evo.qd.xǁQDOptimizerǁ_ask",
+        (2, 4),
+        "np.asarray(self._scheduler.ask(), )",
+        _FLOATS_ASK,
+    ),
+    **_cast(
+        "locustjump.evo.qd.xǁQDOptimizerǁarchive",
+        (40, 42),
+        'np.asarray(d["solution"], )',
+        _RIBS_FLOATS,
+    ),
+    **_cast(
+        "locustjump.evo.qd.xǁQDOptimizerǁarchive",
+        (46, 48),
+        'np.asarray(d["objective"], )',
+        _RIBS_FLOATS,
+    ),
+    **_cast(
+        "locustjump.evo.qd.xǁQDOptimizerǁarchive",
+        (52, 54),
+        'np.asarray(d["measures"], )',
+        _RIBS_FLOATS,
+    ),
+    **_cast(
+        "locustjump.evo.qd.xǁQDOptimizerǁarchive",
+        (58, 60),
+        'np.asarray(d["generation"], )',
+        _RIBS_FLOATS,
+    ),
+    **_cast(
+        "locustjump.evo.qd.xǁQDOptimizerǁ_set_state",
+        (13, 15),
+        'np.asarray(state["fitness_history"], )',
+        _REPLAY,
+    ),
+    **_cast(
+        "locustjump.evo.qd.xǁQDOptimizerǁ_set_state",
+        (20, 22),
+        'np.asarray(state["descriptor_history"], )',
+        _REPLAY_M,
+    ),
+    **_cast(
+        "locustjump.rundir.archive.x_write_archive",
+        (33, 35),
         "np.array(a.dims, )",
         _DIMS_INT,
     ),
