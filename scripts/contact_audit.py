@@ -66,7 +66,7 @@ def audit(run: Path, seeds: list[int], substeps: int | None, backend) -> dict:
         "wall_contact_max": float(max(s.wall_contact for s in scores)),
         "terrains_touching_walls": sum(s.wall_contact > 0 for s in scores),
         "terrains_over_gate": sum(s.penetration_m > GATE_BL * bl for s in scores),
-        "deepest": deep.to_dict(),
+        "deepest": None if deep is None else deep.to_dict(),
         "deepest_wall": None if wall is None else wall.to_dict(),
     }
 

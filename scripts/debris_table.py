@@ -76,8 +76,8 @@ from scipy.stats import mannwhitneyu
 from locustjump import rundir
 from locustjump.present.compare import TOTAL_LABEL, convergence_figure, load_groups
 from locustjump.present.episodes import episode_score
+from locustjump.runs.learning import late_gain
 from locustjump.runs.multiseed import parse_seeds
-from locustjump.runs.study_table import late_gain
 from locustjump.sim import model as lm
 from locustjump.sim.analysis import find_jumps, stuck_overturned
 from locustjump.sim.engine.backends import ThreadBackend
@@ -343,7 +343,7 @@ def main(argv: list[str] | None = None) -> int:
     )
     print("| --- " * 17 + "|")
     for x in table:
-        train = f"{x['train_fitness']:.0f}" if "train_fitness" in x else ""
+        trained = f"{x['train_fitness']:.0f}" if "train_fitness" in x else ""
         gap = f"{x['gap']:.0f}" if x.get("gap") is not None else ""
         late = f"{x['late_gain']:.0%}" if "late_gain" in x else ""
         print(f"| {x['controller']} | {x['median_fitness']:.0f} | "
@@ -352,7 +352,7 @@ def main(argv: list[str] | None = None) -> int:
               f"{x['jumps_before_stuck']:.1f} | {x['overturned']:.1f} / "
               f"{x['recovered']:.1f} | {x['upright']:.0%} | {x['off_field']:.0%} | "
               f"{x['wall_contact']:.1%} | {x['penetration_m']:.4f} | "
-              f"{x['distance_m']:.2f} | {x['highest_m']:.2f} | {train} | "
+              f"{x['distance_m']:.2f} | {x['highest_m']:.2f} | {trained} | "
               f"{gap} | {late} |")  # fmt: skip
     out = {"table": table, "held_out": held, "late_gain": gains}
     if held:

@@ -20,7 +20,9 @@ def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("runs", nargs="+")
     args = ap.parse_args(argv)
-    rows, header, summary = [], None, []
+    rows: list[list[object]] = []
+    header: list[str] = []  # nargs="+": set by the first run
+    summary: list[float] = []
     kinds = {rundir.load_run(d)[0].behaviour for d in args.runs}
     if len(kinds) > 1:
         raise SystemExit(f"one behaviour per table, got {sorted(kinds)}")
