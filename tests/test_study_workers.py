@@ -197,3 +197,47 @@ def test_status_says_what_is_left_at_the_pace_of_its_trainers(tmp_path):
         f"{format_duration(left / rate)} at the pace of the 1 process training it now "
         f"({rate:,.0f} control steps/s; scoring not counted)"
     )
+
+
+def test_status_forecasts_the_runs_left_as_its_trainers_take_them(
+    tmp_path, monkeypatch
+):
+    """Two processes, each on a run with 2 of 4 generations left; random
+    seed 1 done, rcga seed 1 to do. They take the runs as run_study does:
+    both finish theirs, one takes rcga seed 1 and the other has nothing left,
+    so the study takes 6 generations' time, not (2 + 2 + 4) / 2, the last 4
+    with one process at work. A third process on rcga seed 1, no generation
+    timed yet, trains at the others' pace: 4 generations' time."""
+    import locustjump.runs.study_plan as plan
+
+    study = _study(tmp_path, "example", "0-1")
+    rcga, rand = study.arms["rcga"], study.arms["random"]
+    for arm in (rcga, rand):
+        train(arm.config(0), arm.run_dir(0), progress=False, stop_after=2)
+    train(rand.config(1), rand.run_dir(1), progress=False)
+    holders = [_hold(rcga.run_dir(0)), _hold(rand.run_dir(0))]
+    try:
+        training = [st for st in states(study) if st.seed == 0]
+        assert plan.pace(training) == [
+            float(
+                np.median(rundir.read_metrics(st.path / rundir.METRICS)["steps_per_s"])
+            )
+            for st in training
+        ]
+        monkeypatch.setattr(plan, "pace", lambda runs: [1.0 for r in runs if r.done])
+        last = status(study).splitlines()[-1]
+        # a third process starts rcga seed 1: untimed, at the others' pace
+        holders.append(_hold(rcga.run_dir(1)))
+        third = status(study).splitlines()[-1]
+    finally:
+        for h in holders:
+            _release(h)
+    g = states(study)[0].steps_per_generation  # 1 control step/s a process
+    assert last == (
+        f"1 of 4 runs done, {8 * g:,} control steps left: about "
+        f"{format_duration(6 * g)} at the pace of the 2 processes training it now "
+        "(2 control steps/s together, each taking the next run it may; the last "
+        f"{format_duration(4 * g)} of it with fewer than 2 at work; scoring not "
+        "counted)"
+    )
+    assert f"about {format_duration(4 * g)} at the pace of the 3 processes" in third

@@ -5,8 +5,13 @@ processes training it now (``study --status``, :func:`status`)."""
 
 from __future__ import annotations
 
+import heapq
+import math
 import os
 import time
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -130,15 +135,17 @@ def status(study: Study) -> str:
     """What is done: per arm, each seed's generations done of its budget, and
     which runs a process is training now (``102/120, process 1234``); then
     the control steps left and how long they take at the pace of the
-    processes training the study now (:func:`pace`)."""
+    processes training the study now (:func:`pace`), each taking the runs
+    left as :func:`~locustjump.runs.study.run_study` does (:func:`forecast`)."""
     rows = states(study)
+    who = {r.path: None if r.finished else rundir.in_use(r.path) for r in rows}
     seeds = study.seeds
     lines = [
         "| arm | " + " | ".join(f"seed {s}" for s in seeds) + " |",
         "| --- " * (len(seeds) + 1) + "|",
     ]
     for arm in study.arms.values():
-        cells = {r.seed: _cell(r) for r in rows if r.arm == arm.name}
+        cells = {r.seed: _cell(r, who[r.path]) for r in rows if r.arm == arm.name}
         row = [cells[arm.seed_of(s)] for s in seeds]
         lines.append(f"| {arm.name} | " + " | ".join(row) + " |")
     done = sum(r.finished for r in rows)
@@ -146,14 +153,27 @@ def status(study: Study) -> str:
     line = f"\n{done} of {len(rows)} runs done"
     if left:
         line += f", {format_steps(left)} control steps left"
-        n, rate = pace(rows)
-        who = f"{n} process{'es' if n > 1 else ''}"
-        if rate:
-            line += (f": about {format_duration(left / rate)} at the pace of the {who} "
-                     f"training it now ({rate:,.0f} control steps/s; scoring "
-                     "not counted)")  # fmt: skip
+        training = [r for r in rows if who[r.path]]
+        rates = pace(training)
+        n = len(training)
+        who_n = f"{n} process{'es' if n > 1 else ''}"
+        if rates:
+            rate = sum(rates)
+            todo = [r for r in rows if not r.finished]
+            f = forecast(_jobs(study, todo, {r.path for r in training},
+                               rate / len(rates)), n)  # fmt: skip
+            how = f"{rate:,.0f} control steps/s"
+            if n > 1:
+                how += " together, each taking the next run it may"
+                if f.tail >= 60:
+                    how += (f"; the last {format_duration(f.tail)} of it with "
+                            f"fewer than {n} at work")  # fmt: skip
+            line += (
+                f": about {format_duration(f.seconds)} at the pace of the "
+                f"{who_n} training it now ({how}; scoring not counted)"
+            )
         elif n:
-            line += f"; {who} training it now, no generation timed yet"
+            line += f"; {who_n} training it now, no generation timed yet"
         else:
             line += "; no process is training it now"
     lines.append(line)
@@ -164,22 +184,85 @@ def status(study: Study) -> str:
 PACE_GENERATIONS = 10
 
 
-def pace(rows: list[RunState]) -> tuple[int, float]:
-    """The processes training runs of ``rows`` now, and their control steps a
-    second together: each one's median over its run's latest
-    :data:`PACE_GENERATIONS` generations (``metrics.csv``; 0 for a run
-    that has none yet)."""
-    n, rate = 0, 0.0
-    for r in rows:
-        if r.finished or not rundir.in_use(r.path):
-            continue
-        n += 1
+def pace(training: list[RunState]) -> list[float]:
+    """The control steps a second of each run of ``training`` (runs a process
+    trains now) that has a generation timed: its median over its latest
+    :data:`PACE_GENERATIONS` generations (``metrics.csv``)."""
+    rates = []
+    for r in training:
         if r.done:
             m = rundir.read_metrics(r.path / rundir.METRICS)
-            rate += float(np.median(m["steps_per_s"][-PACE_GENERATIONS:]))
-    return n, rate
+            rates.append(float(np.median(m["steps_per_s"][-PACE_GENERATIONS:])))
+    return rates
 
 
-def _cell(r: RunState) -> str:
-    who = None if r.finished else rundir.in_use(r.path)
+@dataclass(frozen=True)
+class Job:
+    """A run left to train, for :func:`forecast`."""
+
+    seconds: float  # to train what is left of it, on one process
+    after: tuple[int, ...] = ()  # the jobs (indices) it builds on
+    held: bool = False  # a process trains it now
+
+
+@dataclass(frozen=True)
+class Forecast:
+    seconds: float  # until the last job is trained
+    tail: float  # the end of that time, with fewer jobs training than processes
+
+
+def forecast(jobs: Sequence[Job], processes: int) -> Forecast:
+    """When ``processes`` processes have trained ``jobs`` (in the study's
+    order), each taking them as :func:`~locustjump.runs.study.run_study`
+    does: a process holding a job finishes it first; a free process takes the
+    first job left whose jobs built on are finished, and waits for the next
+    to finish when none is. ``tail``: how long, at the end, fewer jobs train
+    at once than there are processes (the runs left are too few, or wait on
+    others), all of it when there are never as many."""
+    end: dict[int, float] = {}
+    start: dict[int, float] = {}
+    for i, job in enumerate(jobs):
+        if job.held:
+            start[i], end[i] = 0.0, job.seconds
+    free = sorted(end.values()) + [0.0] * max(0, processes - len(end))
+    heapq.heapify(free)
+    todo = [i for i, job in enumerate(jobs) if not job.held]
+    while todo:
+        t = heapq.heappop(free)
+        ready = (k for k in todo if all(end.get(d, math.inf) <= t
+                                        for d in jobs[k].after))  # fmt: skip
+        pick = next(ready, None)
+        if pick is None:  # wait for the next job to finish
+            later = [e for e in end.values() if e > t]
+            if not later:
+                raise ValueError(f"job {todo[0]} builds on a job never trained")
+            heapq.heappush(free, min(later))
+            continue
+        todo.remove(pick)
+        start[pick], end[pick] = t, t + jobs[pick].seconds
+        heapq.heappush(free, end[pick])
+    last = max(end.values(), default=0.0)
+    # the last moment as many jobs train as there are processes
+    full = 0.0
+    for t in sorted(set(start.values()) | set(end.values())):
+        if sum(start[i] <= t < end[i] for i in end) >= processes:
+            full = min(e for e in end.values() if e > t)
+    return Forecast(last, last - full)
+
+
+def _jobs(
+    study: Study, todo: list[RunState], held: set[Path], rate: float
+) -> list[Job]:
+    """The runs ``todo`` as :class:`Job` at ``rate`` control steps/s each."""
+    index = {r.path.resolve(): i for i, r in enumerate(todo)}
+    jobs = []
+    for r in todo:
+        built_on = study.arms[r.arm].frozen.values()
+        dirs = (study.arms[a].run_dir(r.seed).resolve() for a in built_on)
+        after = tuple(index[d] for d in dirs if d in index)
+        jobs.append(Job(r.steps_left / rate, after, r.path in held))
+    return jobs
+
+
+def _cell(r: RunState, who: str | None) -> str:
     return f"{r.status}, {who}" if who else r.status
