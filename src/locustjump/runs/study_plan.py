@@ -207,6 +207,8 @@ class Job:
 
 @dataclass(frozen=True)
 class Forecast:
+    """What :func:`forecast` says, in seconds."""
+
     seconds: float  # until the last job is trained
     tail: float  # the end of that time, with fewer jobs training than processes
 
