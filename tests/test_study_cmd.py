@@ -273,6 +273,7 @@ def test_the_table(finished):
     # the RCGA keeps its 2 elites unevaluated: 8 + 3 x 6 genomes against 4 x 8
     assert "**not equal**" in t.stdout
     assert (study.out / "learning.png").stat().st_size > 1000
+    assert (study.out / "scores.png").read_bytes().startswith(b"\x89PNG")
 
 
 def test_a_table_of_one_seed_compares_nothing_and_says_why(finished, tmp_path):

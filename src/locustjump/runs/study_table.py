@@ -39,6 +39,11 @@ from locustjump.errors import UserError
 from locustjump.present.compare import Group, convergence_figure
 from locustjump.present.episodes import score_run
 from locustjump.present.stats import Comparison, compare_samples, pairs_table
+from locustjump.present.study_figure import (
+    SCORES_PNG,
+    resolution_label,
+    scores_figure,
+)
 from locustjump.runs.learning import flat_note, late_gain
 from locustjump.runs.study import check_run, states
 from locustjump.runs.studyarms import Arm
@@ -176,7 +181,7 @@ def _fmt(v: float | None, spec: str = ".4g") -> str:
 
 
 def _label(sub: int | None) -> str:
-    return "as trained" if sub is None else f"{sub} substeps"
+    return resolution_label(str(sub))  # table.json's key for it
 
 
 def make_table(study: Study, rows: list[dict[str, Any]]) -> tuple[str, dict[str, Any]]:
@@ -347,8 +352,9 @@ def study_table(
     figure: bool = True,
 ) -> tuple[Path, Path]:
     """Score every scored run of ``study`` (every run must be finished), write
-    ``OUT/table.md``, ``OUT/table.json`` and the learning curves
-    ``OUT/learning.png``; return the two table paths."""
+    ``OUT/table.md``, ``OUT/table.json``, the learning curves
+    ``OUT/learning.png`` and the scores and shifts ``OUT/scores.png``
+    (:mod:`~locustjump.present.study_figure`); return the two table paths."""
     missing = [st for st in states(study) if not st.finished]
     if missing:
         st = missing[0]
@@ -366,6 +372,7 @@ def study_table(
     rundir.write_json(study.out / TABLE_JSON, data)
     if figure:
         learning_figure(study, study.out / FIGURE)
+        scores_figure(data, study.out / SCORES_PNG)
     return study.out / TABLE_MD, study.out / TABLE_JSON
 
 
