@@ -95,6 +95,10 @@ MODULES: dict[str, tuple[str, ...]] = {
     "sim/analysis.py": ("tests/test_analysis.py",),
     # a repertoire's file: written without pickle, read back only as written
     "rundir/archive.py": ("tests/test_archive_file.py",),
+    # how long a study has left, as its processes take its runs
+    "runs/study_plan.py": ("tests/test_study_forecast.py",),
+    # which comparison a study's figure draws on which row
+    "present/study_figure.py": ("tests/test_study_figure.py",),
 }
 
 #: modules of which only some functions are mutated (mutmut's name patterns):
@@ -128,6 +132,13 @@ FUNCTIONS: dict[str, tuple[str, ...]] = {
         "locustjump.tasks.composed.x_successive_terms__mutmut_*",
         "locustjump.tasks.composed.x_overturns__mutmut_*",
         "locustjump.tasks.composed.xǁHeightRewardǁ*",
+    ),
+    # the forecast (the rest reads files and measures this machine)
+    "runs/study_plan.py": ("locustjump.runs.study_plan.x_forecast__mutmut_*",),
+    # what is drawn where, not how it looks (sizes, colours, fonts)
+    "present/study_figure.py": tuple(
+        f"locustjump.present.study_figure.x_{f}__mutmut_*"
+        for f in ("resolution_label", "_resolutions", "shift_rows")
     ),
     # the ground's height (the rest is the scene's MJCF, checked by physics)
     "sim/debris.py": ("locustjump.sim.debris.xǁDebrisǁheights__mutmut_*",),
@@ -310,6 +321,8 @@ def summary(module: str) -> dict | None:
 #: what the functions of :data:`FUNCTIONS` are, in the table
 PART = {
     "runs/study_table.py": "the table",
+    "runs/study_plan.py": "the forecast",
+    "present/study_figure.py": "its rows",
     "sim/debris.py": "the ground's height",
     "tasks/kick.py": "fitness, descriptors",
     "tasks/composed.py": "fitness, falls and recoveries",

@@ -135,3 +135,20 @@ def test_results_table_script_reads_todays_runs(capsys):
     spec.loader.exec_module(module)
     module.main([str(RESULTS / "demo-seed0" / "kick")])
     assert "| 50 x 90/100 |" in capsys.readouterr().out
+
+
+def test_a_shipped_studys_figure_draws_its_table():
+    """scores.png from the flat repertoire study's table.json, as shipped:
+    its first panel's first dots are the reference arm's scores."""
+    import json
+
+    from locustjump.present.study_figure import draw_scores, shift_rows
+
+    table = RESULTS / "studies" / "repertoire-composition" / "table.json"
+    data = json.loads(table.read_text())
+    fig = draw_scores(data)
+    assert len(fig.axes) == 3 and len(shift_rows(data)) == 4  # 2 pairs x 2 physics
+    assert (
+        fig.axes[0].lines[0].get_ydata().tolist()
+        == (data["arms"]["repertoire"]["3"]["values"])
+    )

@@ -3,9 +3,6 @@ table.json — every run's score per arm with the arm's median, and each pair's
 shift with its interval and the margin — so the figure shows the table's
 numbers and no others."""
 
-import json
-
-import numpy as np
 import pytest
 
 from locustjump.errors import UserError
@@ -46,7 +43,7 @@ def test_each_comparison_in_the_tables_order_named_by_the_arms_keys():
                                     data["pairs_height_term"]["3"][0],
                                     data["pairs"]["12"][0]]  # fmt: skip
     own = {"values": [1.0, 2.0], "median": 1.5}  # scored on each run's own scene
-    data = {"study": "t", "margin": None, "pairs_height_term": {},
+    data = {"study": "t", "margin": None,  # no height term compared: no key
             "arms": {"x": {**A, "None": own}, "y": {**A, "label": "Y", "None": own}},
             "pairs": {"None": [_pair("arm A", "Y", 0.0, -1.0, 1.0)]}}  # fmt: skip
     assert [label for label, _ in shift_rows(data)] == ["x - y, as trained"]
@@ -84,17 +81,3 @@ def test_study_writes_it_as_png_and_refuses_a_format_it_cannot(tmp_path):
     with pytest.raises(UserError, match="figure"):
         scores_figure(_data(), tmp_path / "s.nope")
     assert not (tmp_path / "s.nope").exists()
-
-
-def test_a_shipped_studys_table_draws(tmp_path):
-    """The flat repertoire study's table.json, as shipped."""
-    from pathlib import Path
-
-    table = (
-        Path(__file__).parents[1] / "results/studies/repertoire-composition/table.json"
-    )
-    data = json.loads(table.read_text())
-    fig = draw_scores(data)
-    assert len(fig.axes) == 3 and len(shift_rows(data)) == 4
-    assert np.allclose(fig.axes[0].lines[0].get_ydata(),
-                       data["arms"]["repertoire"]["3"]["values"])  # fmt: skip

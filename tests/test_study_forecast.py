@@ -20,6 +20,8 @@ def test_an_odd_run_out_leaves_a_process_idle_at_the_end():
 def test_a_held_run_is_finished_by_its_holder_first():
     # the free process takes the 10 s run at once; the holder frees at 5
     assert forecast([Job(5.0, held=True), Job(10.0)], 2) == Forecast(10.0, 5.0)
+    # both train from the start: the tail is what the longer one has left
+    assert forecast([Job(0.5, held=True), Job(2.0)], 2) == Forecast(2.0, 1.5)
     # held runs end first even when they stand later in the order
     assert forecast([Job(4.0), Job(1.0, held=True)], 1) == Forecast(5.0, 0.0)
 
