@@ -332,6 +332,8 @@ def test_moved_runs_keep_their_scores(finished, tmp_path, monkeypatch):
         (("[defaults]", "wat = 1\n[defaults]"), "unknown key 'wat'"),
         (('label = "random search"', 'label = "random search"\nseed = 3'),
          "a fixed seed is for an arm others build on"),
+        (('label = "random search"', 'label = "RCGA (the paper\'s)"'),
+         "[arms.random]: label \"RCGA (the paper's)\" is arm 'rcga''s already"),
     ],
 )  # fmt: skip
 def test_a_wrong_study_file_is_one_line_and_starts_nothing(tmp_path, change, message):

@@ -37,11 +37,13 @@ def test_each_comparison_in_the_tables_order_named_by_the_arms_keys():
     assert [label for label, _ in rows] == [
         "a - b, 3 substeps",
         "a - b, 3 substeps, height term",
-        "a - b, 12 substeps",
+        "a - b, 12 substeps (no 95 % interval)",
     ]
     assert [r for _, r in rows] == [data["pairs"]["3"][0],
                                     data["pairs_height_term"]["3"][0],
                                     data["pairs"]["12"][0]]  # fmt: skip
+    data["pairs"]["3"][0]["high"] = None  # one bound missing is no interval too
+    assert shift_rows(data)[0][0] == "a - b, 3 substeps (no 95 % interval)"
     own = {"values": [1.0, 2.0], "median": 1.5}  # scored on each run's own scene
     data = {"study": "t", "margin": None,  # no height term compared: no key
             "arms": {"x": {**A, "None": own}, "y": {**A, "label": "Y", "None": own}},

@@ -43,3 +43,10 @@ def test_fewer_runs_than_processes_and_none_at_all():
 def test_a_run_built_on_one_never_trained_is_an_error():
     with pytest.raises(ValueError, match="job 0 builds on a job never trained"):
         forecast([Job(1.0, after=(5,))], 1)
+
+
+def test_fewer_processes_than_held_runs_is_an_error():
+    with pytest.raises(ValueError, match="processes: 1, fewer than the 2 held"):
+        forecast([Job(1.0, held=True), Job(1.0, held=True)], 1)
+    with pytest.raises(ValueError, match="processes: 0, not >= 1"):
+        forecast([Job(1.0)], 0)

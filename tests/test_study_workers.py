@@ -236,8 +236,30 @@ def test_status_forecasts_the_runs_left_as_its_trainers_take_them(
     assert last == (
         f"1 of 4 runs done, {8 * g:,} control steps left: about "
         f"{format_duration(6 * g)} at the pace of the 2 processes training it now "
-        "(2 control steps/s together, each taking the next run it may; the last "
+        "(1 control steps/s each, taking the next run it may; the last "
         f"{format_duration(4 * g)} of it with fewer than 2 at work; scoring not "
         "counted)"
     )
     assert f"about {format_duration(4 * g)} at the pace of the 3 processes" in third
+
+
+def test_the_forecast_knows_what_each_run_builds_on(tmp_path):
+    """The repertoire study's seed 0, nothing trained: the switchers wait on
+    their own seed's simple runs (by position in the study's order), the
+    simple runs and the one network on none; a held run is marked."""
+    from locustjump.runs.study_plan import _jobs
+
+    study = _study(tmp_path, "repertoire-composition", "0")
+    todo = states(study)
+    at = {st.arm: i for i, st in enumerate(todo)}
+    jobs = _jobs(study, todo, {todo[at["kick"]].path}, 2.0)
+    after = {st.arm: {todo[i].arm for i in job.after}
+             for st, job in zip(todo, jobs, strict=True)}  # fmt: skip
+    assert after == {
+        "kick": set(), "kick-repertoire": set(), "getup": set(),
+        "return-legs": set(), "monolithic": set(),
+        "pipeline": {"kick", "getup", "return-legs"},
+        "repertoire": {"kick-repertoire", "getup", "return-legs"},
+    }  # fmt: skip
+    assert [job.held for job in jobs] == [st.arm == "kick" for st in todo]
+    assert [job.seconds for job in jobs] == [st.steps_left / 2.0 for st in todo]

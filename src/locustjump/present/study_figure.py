@@ -4,10 +4,11 @@ Hodges–Lehmann shift with its 95 % interval against the declared margin.
 Drawn from what ``study --table`` writes to ``table.json`` (see
 :mod:`locustjump.runs.study_table`), so ``scores.png`` shows exactly the
 table's numbers: the left panels one column of dots per arm (a run each,
-its held-out score) with the arm's median, one panel per physics
-resolution; the right panel each pair's shift, on the full fitness and on the
-height term alone where the table gives it, at each resolution, with 0 and
-the equivalence margin drawn. An interval that excludes 0 is a difference,
+its score where the study scores it) with the arm's median, one panel per
+physics resolution; the right panel each pair's shift, on the full fitness
+and on the height term alone where the table gives it, at each resolution,
+with 0 and the equivalence margin drawn (a pair too small for an interval
+says so). An interval that excludes 0 is a difference,
 one inside the margin band is equivalence only if the table's TOST says so;
 the figure draws, the table decides.
 """
@@ -37,15 +38,14 @@ def resolution_label(key: str) -> str:
 
 
 def _resolutions(data: Mapping[str, Any]) -> list[str]:
-    first = next(iter(data["arms"].values()))
-    return [k for k in first if k not in ("label", "runs", "budget", "flat")]
+    return list(data["pairs"])  # a key per resolution, compared or not
 
 
 def shift_rows(data: Mapping[str, Any]) -> list[tuple[str, dict[str, Any]]]:
     """(label, pair row) of every comparison in ``data``, in the table's
     order: per resolution, the pairs on the full fitness, then on the height
     term alone; arms named by their keys in the study file (the labels are
-    long)."""
+    long), a pair too small for a 95 % interval said so."""
     name = {arm["label"]: key for key, arm in data["arms"].items()}
     terms = (("", data["pairs"]), (", height term", data.get("pairs_height_term", {})))
     out = []
@@ -54,7 +54,10 @@ def shift_rows(data: Mapping[str, Any]) -> list[tuple[str, dict[str, Any]]]:
         for term, pairs in terms:
             for row in pairs.get(key, []):
                 pair = f"{name[row['a']]} - {name[row['b']]}"
-                out.append((f"{pair}, {where}{term}", row))
+                label = f"{pair}, {where}{term}"
+                if row["low"] is None or row["high"] is None:
+                    label += " (no 95 % interval)"
+                out.append((label, row))
     return out
 
 
@@ -86,9 +89,12 @@ def draw_scores(data: Mapping[str, Any]) -> Figure:
             dx = np.linspace(-0.12, 0.12, len(v)) if len(v) > 1 else np.zeros(len(v))
             ax.plot(x + dx, v, "o", alpha=0.7, ms=5)  # runs side by side, in order
             ax.hlines(arm[key]["median"], x - 0.3, x + 0.3, colors="k", lw=2)
-        ax.set_xticks(range(len(arms)), list(data["arms"]), fontsize=8)
+        names = list(data["arms"])
+        turn = 25 if sum(map(len, names)) > 40 else 0  # many or long: slanted
+        ax.set_xticks(range(len(arms)), names, fontsize=8, rotation=turn,
+                      ha="right" if turn else "center")  # fmt: skip
         ax.set_xlim(-0.6, len(arms) - 0.4)
-        ax.set_title(f"held-out score, {resolution_label(key)}", fontsize=9)
+        ax.set_title(f"score, {resolution_label(key)}", fontsize=9)
         ax.grid(alpha=0.3, axis="y")
     axes[0].set_ylabel("score per run (bar: median)")
     ax = axes[-1]

@@ -157,14 +157,13 @@ def status(study: Study) -> str:
         rates = pace(training)
         n = len(training)
         who_n = f"{n} process{'es' if n > 1 else ''}"
-        if rates:
-            rate = sum(rates)
+        if rates and min(rates) > 0:
+            each = sum(rates) / len(rates)  # an untimed process: at the others' pace
             todo = [r for r in rows if not r.finished]
-            f = forecast(_jobs(study, todo, {r.path for r in training},
-                               rate / len(rates)), n)  # fmt: skip
-            how = f"{rate:,.0f} control steps/s"
+            f = forecast(_jobs(study, todo, {r.path for r in training}, each), n)
+            how = f"{each:,.0f} control steps/s"
             if n > 1:
-                how += " together, each taking the next run it may"
+                how += " each, taking the next run it may"
                 if f.tail >= 60:
                     how += (f"; the last {format_duration(f.tail)} of it with "
                             f"fewer than {n} at work")  # fmt: skip
@@ -220,13 +219,18 @@ def forecast(jobs: Sequence[Job], processes: int) -> Forecast:
     first job left whose jobs built on are finished, and waits for the next
     to finish when none is. ``tail``: how long, at the end, fewer jobs train
     at once than there are processes (the runs left are too few, or wait on
-    others), all of it when there are never as many."""
+    others), all of it when there are never as many. ``ValueError`` if
+    fewer processes than held jobs."""
+    held = sum(job.held for job in jobs)
+    if processes < max(held, 1):
+        raise ValueError(f"processes: {processes}, fewer than the {held} held job(s)"
+                         if held else f"processes: {processes}, not >= 1")  # fmt: skip
     end: dict[int, float] = {}
     start: dict[int, float] = {}
     for i, job in enumerate(jobs):
         if job.held:
             start[i], end[i] = 0.0, job.seconds
-    free = sorted(end.values()) + [0.0] * max(0, processes - len(end))
+    free = sorted(end.values()) + [0.0] * (processes - held)
     heapq.heapify(free)
     todo = [i for i, job in enumerate(jobs) if not job.held]
     while todo:

@@ -139,12 +139,17 @@ def parse_arms(d: Any, defaults: Any, root: Path, src: str) -> dict[str, Arm]:
                     f"{where}: {key} {own.get(key, arms[name].path)!r}: the only "
                     "field is {seed}"
                 ) from None
+    labelled: dict[str, str] = {}
     for a in arms.values():
         for b in a.frozen.values():
             if b not in arms:
                 raise UserError(
                     f"{src} [arms.{a.name}]: frozen: no arm {b!r} in this study"
                 )
+        if a.label in labelled:  # the table and its figure name arms by label
+            raise UserError(f"{src} [arms.{a.name}]: label {a.label!r} is arm "
+                            f"{labelled[a.label]!r}'s already")  # fmt: skip
+        labelled[a.label] = a.name
     return _ordered(arms, src)
 
 
