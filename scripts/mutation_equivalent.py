@@ -368,22 +368,14 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
     "locustjump.sim.analysis.x_ground_profile__mutmut_9": ('kind="STABLE"', _SORT_CASE),
     "locustjump.rundir.archive.x_read_archive__mutmut_122": ("else -2", _NOT_1D),
     "locustjump.rundir.archive.x_read_archive__mutmut_134": ('"XXiuXX"', _NO_KIND_X),
-    "locustjump.rundir.archive.x_read_archive__mutmut_77": (
-        "reshape(-2)",
-        _RESHAPE_NEG,
-    ),
-    "locustjump.rundir.archive.x_read_archive__mutmut_85": (
-        "reshape(-2)",
-        _RESHAPE_NEG,
-    ),
-    "locustjump.rundir.archive.x_read_archive__mutmut_92": (
-        "reshape(-2)",
-        _RESHAPE_NEG,
-    ),
-    "locustjump.rundir.archive.x_read_archive__mutmut_99": (
-        "reshape(-2)",
-        _RESHAPE_NEG,
-    ),
+    # the four reshape(-1) of the reader's arrays, each mutated to -2
+    **{
+        f"locustjump.rundir.archive.x_read_archive__mutmut_{n}": (
+            "reshape(-2)",
+            _RESHAPE_NEG,
+        )
+        for n in (77, 85, 92, 99)
+    },
     # zip(..., strict=True) mutated three ways where the lengths cannot differ
     **_zip_strict(
         "locustjump.rundir.metrics.x_parse_row", (10, 13, 14), "names, cells", _ZIP
