@@ -11,6 +11,14 @@ and a quality-diversity run's archive (``archive.npz``) — what
 each arm's table in the study file takes so that the study names its shipped
 runs. Runs the study already names under ``TO`` are left as they are.
 
+    python scripts/ship_study.py STUDY.toml --prefix debris --finished
+
+ships only the runs that are finished and leaves the others, for a study that
+is still training: each arm's ``paths = { "SEED" = "DIR", ... }`` line then
+names its shipped seeds, and the study trains the rest where it did (a study
+moved to another machine continues from what was shipped; docs/studies.md,
+Publishing a finished study).
+
 Everything is checked before anything is written: every run must have its
 configuration's generations, and a run already shipped must be the same run
 (the same ``best.npz`` and ``metrics.csv``); otherwise one line names what is
@@ -36,9 +44,12 @@ FILES = ("config.toml", "metrics.csv", "best.npz", "frozen.npz", "simple.npz",
 SAME = ("best.npz", "metrics.csv")
 
 
-def plan(study_file: str, to: Path, prefix: str) -> list[tuple[Path, Path]]:
+def plan(
+    study_file: str, to: Path, prefix: str, finished: bool = False
+) -> list[tuple[Path, Path]]:
     """(run directory, destination) of every run to copy; ``UserError`` if a
-    run is unfinished or differs from what is already shipped there."""
+    run is unfinished (skipped instead when ``finished``) or differs from what
+    is already shipped there."""
     study = load_study(study_file)
     out = []
     for arm, seed in study.runs():
@@ -48,6 +59,8 @@ def plan(study_file: str, to: Path, prefix: str) -> list[tuple[Path, Path]]:
         want = arm.base.generations
         have = generations_done(src)
         if have != want:
+            if finished:
+                continue
             raise UserError(
                 f"{src}: {have} of {want} generations; only a finished study ships"
             )
@@ -90,6 +103,25 @@ def path_lines(study_file: str, to: Path, prefix: str) -> list[str]:
     return out
 
 
+def paths_lines(study_file: str, to: Path, prefix: str) -> list[str]:
+    """The ``[arms.NAME]`` header and ``paths`` line of each arm with shipped
+    runs: every seed whose run is under ``to``, shipped before or now."""
+    study = load_study(study_file)
+    shipped: dict[str, dict[int, Path]] = {}
+    for arm, seed in study.runs():
+        run = arm.run_dir(seed)
+        if not run.resolve().is_relative_to(to.resolve()):
+            run = to / f"{prefix}-{arm.name}-s{seed}"
+        if run.is_dir():
+            shipped.setdefault(arm.name, {})[seed] = run
+    return [
+        f"[arms.{name}]\npaths = {{ "
+        + ", ".join(f'"{s}" = "{d}"' for s, d in seeds.items())
+        + " }"
+        for name, seeds in shipped.items()
+    ]
+
+
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("study", help="the study file (.toml)")
@@ -97,15 +129,18 @@ def main(argv: list[str] | None = None) -> int:
                    help="where shipped runs live (default: results/study)")  # fmt: skip
     p.add_argument("--prefix", required=True,
                    help="names the runs PREFIX-ARM-s<seed>")  # fmt: skip
+    p.add_argument("--finished", action="store_true",
+                   help="ship the finished runs of a study still training")  # fmt: skip
     args = p.parse_args(argv)
     try:
-        pairs = plan(args.study, args.to, args.prefix)
+        pairs = plan(args.study, args.to, args.prefix, args.finished)
     except UserError as e:
         print(f"ship_study: {e}", file=sys.stderr)
         return 2
     ship(pairs)
     print(f"shipped {len(pairs)} runs to {args.to}; the study file's arms:")
-    print("\n".join(path_lines(args.study, args.to, args.prefix)))
+    lines = paths_lines if args.finished else path_lines
+    print("\n".join(lines(args.study, args.to, args.prefix)))
     return 0
 
 

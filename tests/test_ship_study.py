@@ -86,6 +86,49 @@ def test_an_unfinished_study_is_refused_and_nothing_is_written(
     assert not to.exists()
 
 
+def test_a_study_still_training_ships_its_finished_runs_and_continues(
+    trained, tmp_path, capsys
+):
+    """--finished: seed 2 has no runs yet and is left; the printed ``paths``
+    lines name the shipped seeds, and the study so named trains only seed 2,
+    never writing into what was shipped (a study moved to another machine)."""
+    runs = tmp_path / "runs"
+    shutil.copytree(trained.parent / "runs", runs)
+    wider = tmp_path / "wider.toml"
+    wider.write_text(
+        trained.read_text()
+        .replace('seeds = "0-1"', 'seeds = "0-2"')
+        .replace(str(trained.parent / "runs"), str(runs))
+    )
+    to = tmp_path / "results"
+    args = [str(wider), "--to", str(to), "--prefix", "ex", "--finished"]
+    assert ship_study.main(args) == 0
+    out = capsys.readouterr().out
+    assert "shipped 4 runs" in out
+    assert sorted(p.name for p in to.iterdir()) == [
+        "ex-random-s0", "ex-random-s1", "ex-rcga-s0", "ex-rcga-s1"]  # fmt: skip
+    lines = re.findall(r"\[arms\.(\S+)\]\npaths = (\{.+\})", out)
+    assert [n for n, _ in lines] == ["rcga", "random"]
+    text = wider.read_text()
+    for name, paths in lines:
+        text = text.replace(f"[arms.{name}]\n", f"[arms.{name}]\npaths = {paths}\n")
+    named = tmp_path / "named.toml"
+    named.write_text(text)
+    study = load_study(named)
+    for arm, seed in study.runs():
+        want = to / f"ex-{arm.name}-s{seed}" if seed < 2 else None
+        assert arm.run_dir(seed) == (want or runs / arm.name / "seed-2")
+    before = tree_snapshot(to)
+    r = run_cli("study", str(named), "--quiet", "--threads", "2")
+    assert r.returncode == 0, r.stderr
+    assert "2 to train" in r.stdout + r.stderr
+    assert tree_snapshot(to) == before
+    # shipped again, the finished study's paths name all three seeds
+    assert ship_study.main(args) == 0
+    out = capsys.readouterr().out
+    assert '"2" = "' in out and out.count('"0" = "') == 2
+
+
 def test_another_run_under_the_same_name_is_refused(trained, tmp_path, capsys):
     to = tmp_path / "results"
     study = load_study(trained)
