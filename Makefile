@@ -45,7 +45,8 @@ test: $(VENV)/.test-installed $(VENV)/.docs-installed typecheck  # test_docs.py:
 	# not loadgroup: xdist 3.8 under pytest 9 ignores its groups)
 	$(BIN)/python -m pytest -q -rs -n auto --maxprocesses 4 --dist loadfile
 
-# mypy as [tool.mypy] in pyproject.toml says: strict on every module
+# mypy as [tool.mypy] in pyproject.toml says: strict on every module, script
+# and benchmark
 typecheck: $(VENV)/.test-installed
 	$(BIN)/mypy
 

@@ -29,6 +29,7 @@ import numpy as np
 from locustjump.sim import model as lm
 from locustjump.sim.bvh import rebuild_bvh
 from locustjump.sim.engine.backends import ThreadBackend
+from locustjump.sim.engine.job import StartStates
 from locustjump.sim.engine.rollout import rollout
 from locustjump.sim.scene import Debris, Flat, Scene
 from locustjump.tasks.rules import RuleController
@@ -53,7 +54,13 @@ def as_compiled(p: lm.LocustParams, scene: Scene) -> mujoco.MjModel:
     return mujoco.MjModel.from_xml_string(xml)
 
 
-def _physics_steps(m, d, p, start, ctrl) -> Iterator[str]:
+def _physics_steps(
+    m: mujoco.MjModel,
+    d: mujoco.MjData,
+    p: lm.LocustParams,
+    start: StartStates,
+    ctrl: np.ndarray,
+) -> Iterator[str]:
     """Replay the servo targets ``ctrl (n, T + 1, nu)`` from ``start`` on
     ``d``, one physics step at a time; after each, what it ended: "" (a
     substep), "control step", or "episode" (the last control step of one)."""
@@ -71,7 +78,9 @@ def _physics_steps(m, d, p, start, ctrl) -> Iterator[str]:
                     yield "episode" if t == ctrl.shape[1] - 1 else "control step"
 
 
-def touched_only(p: lm.LocustParams, scene: Scene, start, ctrl) -> mujoco.MjModel:
+def touched_only(
+    p: lm.LocustParams, scene: Scene, start: StartStates, ctrl: np.ndarray
+) -> mujoco.MjModel:
     """The engine's model of ``scene`` less the boxes and walls (and the walls'
     contact sensors) that no contact of the episodes ``ctrl`` ever names."""
     m = lm.load_model(p, scene)
@@ -92,7 +101,9 @@ def touched_only(p: lm.LocustParams, scene: Scene, start, ctrl) -> mujoco.MjMode
     return m
 
 
-def replay(m, p, start, ctrl) -> tuple[dict[str, float], float, np.ndarray]:
+def replay(
+    m: mujoco.MjModel, p: lm.LocustParams, start: StartStates, ctrl: np.ndarray
+) -> tuple[dict[str, float], float, np.ndarray]:
     """(us a physics step per stage, contacts a step, qpos after each control
     step) of the servo targets ``ctrl (n, T + 1, nu)`` from ``start``."""
     d = mujoco.MjData(m)
@@ -124,9 +135,10 @@ def main() -> None:
     p = lm.LocustParams()
     rc = RuleController.for_model(p)
     params = rc.params_for(np.linspace(0.0, 1.0, args.episodes))
-    rows: dict[str, list] = {"flat floor": [], "debris, as compiled": [],
-                             "debris, engine's model": [],
-                             "debris, touched geoms only (bound)": []}  # fmt: skip
+    rows: dict[str, list[dict[str, float]]] = {
+        "flat floor": [], "debris, as compiled": [],
+        "debris, engine's model": [],
+        "debris, touched geoms only (bound)": []}  # fmt: skip
     identical = True
     with ThreadBackend(1) as backend:
         for seed in range(args.terrains):
@@ -161,9 +173,9 @@ def main() -> None:
         cells = [f"{statistics.median(x[c] for x in r):.2f}" for c in cols]
         print(f"| {name} | " + " | ".join(cells) + " |")
     step = {k: statistics.median(x["step"] for x in r) for k, r in rows.items()}
-    flat = step["flat floor"]
+    flat_step = step["flat floor"]
     print("\nflat / debris, a physics step: " + ", ".join(
-        f"{k.removeprefix('debris, ')} {flat / v:.2f}" for k, v in step.items()
+        f"{k.removeprefix('debris, ')} {flat_step / v:.2f}" for k, v in step.items()
         if k != "flat floor"))  # fmt: skip
 
 

@@ -38,12 +38,14 @@ from locustjump import rundir  # noqa: E402
 from locustjump.evo import make_optimizer, optimizer_kinds, params_class  # noqa: E402
 from locustjump.rundir.config import TrainConfig  # noqa: E402
 from locustjump.runs.trainer import train  # noqa: E402
+from locustjump.sim import model as lm  # noqa: E402
 from locustjump.sim.controller import MLP  # noqa: E402
 from locustjump.sim.engine.backends import ThreadBackend  # noqa: E402
 from locustjump.sim.scene import Terrains  # noqa: E402
 from locustjump.tasks import (  # noqa: E402
     BEHAVIOURS,
     SIMPLE_BEHAVIOURS,
+    Behaviour,
     get_behaviour,
 )
 
@@ -135,13 +137,13 @@ def measure(
                         terrains=cfg.scene)  # fmt: skip
     p = cfg.model
     backend = ThreadBackend(threads)
-    kw = {"frozen": simple} if beh.requires else {}
+    frozen = simple if beh.requires else None  # train's default: None
     wall, steps, phys = [], [], []
     n_new = population  # genomes asked for a generation (known on a replay)
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(tmp) / "run"
         train(cfg.replace(generations=warmup), out, progress=False,
-                   backend=backend, **kw)  # fmt: skip
+                   backend=backend, frozen=frozen)  # fmt: skip
         ga = make_optimizer(cfg.optimizer, beh.controller.num_params, cfg.seed)
         ga.load_state(rundir.read_checkpoint(
             out / rundir.CHECKPOINT,
@@ -152,7 +154,7 @@ def measure(
             # cached Batch), then at once the physics-only replay of its very
             # episodes, so both are timed under the same load of the machine
             train(cfg.replace(generations=g), out, progress=False,
-                  backend=backend, resume=True, **kw)  # fmt: skip
+                  backend=backend, resume=True, frozen=frozen)  # fmt: skip
             row = rundir.read_metrics(out / rundir.METRICS)
             wall.append(float(row["wall_s"][-1]))
             steps.append(int(row["control_steps"][-1]))
@@ -168,7 +170,14 @@ def measure(
     )
 
 
-def replay_seconds(beh, p, ctrl: np.ndarray, n: int, threads: int, repeats: int):
+def replay_seconds(
+    beh: Behaviour,
+    p: lm.LocustParams,
+    ctrl: np.ndarray,
+    n: int,
+    threads: int,
+    repeats: int,
+) -> float:
     """Physics-only seconds of ``n`` genomes' episodes (servo targets
     ``ctrl``, terrain-major as ``evaluate`` concatenates them) on each of the
     behaviour's terrains, summed."""

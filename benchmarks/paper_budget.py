@@ -61,7 +61,10 @@ def main() -> None:
     if engine == "numba-loop":
         from locustjump.sim.engine import incallback
 
-        incallback.AVAILABLE = False  # run_batch then runs the step loop
+        # run_batch then runs the step loop. The flag set is incallback's own
+        # binding of the name it imports from callback (the one run_batch
+        # reads), which incallback does not re-export: hence the ignore
+        incallback.AVAILABLE = False  # type: ignore[attr-defined]
         engine = "numba"
 
     print(

@@ -47,9 +47,9 @@ CATEGORIES = [
 ]
 
 
-def categorise(raw: str, main_thread: str | None = None) -> Counter:
+def categorise(raw: str, main_thread: str | None = None) -> Counter[str]:
     pats = [(name, re.compile(p)) for name, p in CATEGORIES]
-    counts: Counter = Counter()
+    counts: Counter[str] = Counter()
     for line in raw.splitlines():
         stack, _, n = line.rpartition(" ")
         frames = stack.split(";")

@@ -33,7 +33,10 @@ import statistics
 import sys
 import tempfile
 import time
+from collections.abc import Callable
 from pathlib import Path
+from types import ModuleType
+from typing import TypedDict
 
 import numpy as np
 
@@ -43,14 +46,23 @@ from locustjump import rundir  # noqa: E402
 from locustjump.evo import RCGAParams  # noqa: E402
 from locustjump.rundir.config import TrainConfig  # noqa: E402
 from locustjump.runs.trainer import train  # noqa: E402
-from locustjump.sim.engine.backends import ThreadBackend  # noqa: E402
+from locustjump.sim.engine.backends import Backend, ThreadBackend  # noqa: E402
+from locustjump.sim.engine.job import RolloutJob, RolloutResult  # noqa: E402
 from locustjump.tasks import get_behaviour  # noqa: E402
 
 STAGES = ("kick", "getup", "return-legs", "composed")
 TARGET_GEN, TARGET_SEEDS = 1.10, 1.05
 
 
-def _ray(cpus: int):
+class _Quiet(TypedDict):
+    """The keywords of ``reproduce`` and ``reproduce_seeds`` that silence them."""
+
+    progress: bool
+    log: Callable[[str], None]
+    videos: bool
+
+
+def _ray(cpus: int) -> ModuleType:
     import ray
 
     if not ray.is_initialized():
@@ -63,22 +75,24 @@ def _ray(cpus: int):
     return ray
 
 
-def _train(stage, gens, backend, simple, tmp) -> tuple[list[float], bytes]:
+def _train(
+    stage: str, gens: int, backend: Backend, simple: rundir.FrozenGenomes, tmp: str
+) -> tuple[list[float], bytes]:
     cfg = TrainConfig(stage, 0, gens, RCGAParams(population=50))
     out = Path(tempfile.mkdtemp(dir=tmp)) / "run"
-    kw = {"frozen": simple} if stage == "composed" else {}
-    train(cfg, out, progress=False, backend=backend, **kw)
+    frozen = simple if stage == "composed" else None  # train's default: None
+    train(cfg, out, progress=False, backend=backend, frozen=frozen)
     wall = [float(w) for w in rundir.read_metrics(out / rundir.METRICS)["wall_s"]]
     return wall, (out / rundir.BEST).read_bytes()
 
 
-def part_generations(args, cpus: int) -> None:
+def part_generations(args: argparse.Namespace, cpus: int) -> None:
     from locustjump.sim.engine.ray_backend import RayBackend
 
     _ray(cpus)
     simple = simple_genomes(args.simple_from)
     # made anew for every run and closed after it: actors hold their CPUs
-    backends = {
+    backends: dict[str, Callable[[], Backend]] = {
         f"threads({cpus})": lambda: ThreadBackend(cpus),
         f"ray {cpus}x1": lambda: RayBackend(actors=cpus, threads=1),
         f"ray 1x{cpus}": lambda: RayBackend(actors=1, threads=cpus),
@@ -118,21 +132,23 @@ def part_generations(args, cpus: int) -> None:
     )
 
 
-def part_serial(args, cpus: int) -> None:
+def part_serial(args: argparse.Namespace, cpus: int) -> None:
     ray = _ray(cpus)
 
-    @ray.remote(num_cpus=0)
+    # ray.remote applied as a call, not as a decorator (as ray_backend.py
+    # does): mypy types neither what a class decorator makes of its class nor
+    # a function under ray's (a ModuleType's, so untyped) decorator
     class Echo:
-        def size(self, job) -> int:
+        def size(self, job: RolloutJob) -> int:
             return job.params.nbytes + job.starts.qpos.nbytes
 
-        def result(self, like):
+        def result(self, like: object) -> object:
             return like
 
-    a = Echo.remote()
+    a = ray.remote(num_cpus=0)(Echo).remote()
     reps = args.repeats
 
-    def median_s(fn) -> float:
+    def median_s(fn: Callable[..., object]) -> float:
         fn()
         ts = []
         for _ in range(reps):
@@ -141,13 +157,14 @@ def part_serial(args, cpus: int) -> None:
             ts.append(time.perf_counter() - t0)
         return statistics.median(ts)
 
-    @ray.remote(num_cpus=0)
-    def noop():
+    def noop() -> None:
         return None
+
+    remote_noop = ray.remote(num_cpus=0)(noop)
 
     print(f"\n== serial parts of a Ray generation (median of {reps}) ==")
     rtt = median_s(lambda: ray.get(a.result.remote(None)))
-    task = median_s(lambda: ray.get(noop.remote()))
+    task = median_s(lambda: ray.get(remote_noop.remote()))
     print(
         f"actor call round trip (empty): {rtt * 1e6:.0f} us; "
         f"task round trip: {task * 1e6:.0f} us"
@@ -202,7 +219,7 @@ class _TimedThreads(ThreadBackend):
 
     seconds = 0.0
 
-    def run(self, job):
+    def run(self, job: RolloutJob) -> RolloutResult:
         t0 = time.perf_counter()
         try:
             return super().run(job)
@@ -210,7 +227,7 @@ class _TimedThreads(ThreadBackend):
             self.seconds += time.perf_counter() - t0
 
 
-def part_driver(args, cpus: int) -> None:
+def part_driver(args: argparse.Namespace, cpus: int) -> None:
     """Per generation, the driver's own work (optimizer, fitness, metrics,
     checkpoint): generation wall time minus the time inside the backend."""
     simple = simple_genomes(args.simple_from)
@@ -233,12 +250,12 @@ def part_driver(args, cpus: int) -> None:
             )
 
 
-def part_seeds(args, cpus: int) -> None:
+def part_seeds(args: argparse.Namespace, cpus: int) -> None:
     from locustjump.runs.multiseed import reproduce_seeds
     from locustjump.runs.reproduce import reproduce
 
     _ray(cpus)
-    quiet = {"progress": False, "log": lambda s: None, "videos": False}
+    quiet: _Quiet = {"progress": False, "log": lambda s: None, "videos": False}
     print(f"\n== two seeds x quick budget, {cpus} CPUs ==")
     with tempfile.TemporaryDirectory() as tmp:
         t0 = time.perf_counter()

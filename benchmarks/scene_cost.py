@@ -25,8 +25,10 @@ import argparse
 import statistics
 import sys
 import time
+from collections.abc import Sequence
 from pathlib import Path
 
+import mujoco
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).parent))
@@ -35,14 +37,20 @@ from debris_collision import touched_only  # noqa: E402
 from locustjump.sim import model as lm  # noqa: E402
 from locustjump.sim.engine.backends import ThreadBackend  # noqa: E402
 from locustjump.sim.engine.rollout import rollout  # noqa: E402
-from locustjump.sim.scene import Debris, Flat  # noqa: E402
+from locustjump.sim.scene import Debris, Flat, Scene  # noqa: E402
 from locustjump.tasks.rules import RuleController  # noqa: E402
 from locustjump.tasks.starts import ready_state  # noqa: E402
 
 
-def _use_touched_only(p, rc, params, scenes, steps) -> None:
+def _use_touched_only(
+    p: lm.LocustParams,
+    rc: RuleController,
+    params: np.ndarray,
+    scenes: Sequence[Scene],
+    steps: int,
+) -> None:
     """From here on, the engine and the replay load each debris scene's bound."""
-    bound = {}
+    bound: dict[Scene, mujoco.MjModel] = {}
     with ThreadBackend(1) as backend:
         for scene in scenes:
             start = ready_state(p, scene)
@@ -50,7 +58,9 @@ def _use_touched_only(p, rc, params, scenes, steps) -> None:
                           record=("ctrl",), backend=backend, scene=scene)  # fmt: skip
             bound[scene] = touched_only(p, scene, start, res["ctrl"])
     load = lm.load_model
-    lm.load_model = lambda q, scene=Flat(): (  # type: ignore[assignment]
+    # the stand-in takes the parameters always (no default): a narrower
+    # signature than load_model's, and a lambda mypy cannot type from it
+    lm.load_model = lambda q, scene=Flat(): (  # type: ignore[assignment,misc]
         lm.copy_model(bound[scene]) if scene in bound and q == p else load(q, scene)
     )
 

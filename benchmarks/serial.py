@@ -28,6 +28,7 @@ from __future__ import annotations
 import argparse
 import statistics
 import time
+from typing import Any
 
 import numpy as np
 from mujoco.batch import Batch
@@ -46,18 +47,18 @@ CORES = (1, 2, 4, 8, 16, 32, 64)
 class _TimedCore:
     """Stands in for a Batch's C object; adds up the time inside rollout()."""
 
-    def __init__(self, core):
+    def __init__(self, core: Any) -> None:
         self._core = core
         self.seconds = 0.0
 
-    def rollout(self, *args):
+    def rollout(self, *args: Any) -> Any:
         t0 = time.perf_counter()
         try:
             return self._core.rollout(*args)
         finally:
             self.seconds += time.perf_counter() - t0
 
-    def __getattr__(self, name):
+    def __getattr__(self, name: str) -> Any:
         return getattr(self._core, name)
 
 
@@ -136,7 +137,7 @@ def main() -> None:
     print_model(model)
 
 
-def print_model(rows) -> None:
+def print_model(rows: list[tuple[int, str, float, float, float]]) -> None:
     """PREDICTION (Amdahl): a control step on k cores costs s + p1 / k (serial
     work s, C time p1 on one core; never more cores than episodes), checked
     against the 2-thread measurement."""

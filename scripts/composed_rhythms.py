@@ -58,10 +58,17 @@ class SequenceController:
     def memory_size(self) -> int:
         return 1
 
-    def prepare(self, params: np.ndarray):
+    def prepare(self, params: np.ndarray) -> tuple[np.ndarray, MLPWeights]:
         return np.asarray(params), self.network.prepare(self.simple)
 
-    def act(self, prepared, memory, obs, targets, step):
+    def act(
+        self,
+        prepared: tuple[np.ndarray, MLPWeights],
+        memory: np.ndarray,
+        obs: np.ndarray,
+        targets: np.ndarray,
+        step: int,
+    ) -> tuple[np.ndarray, np.ndarray]:
         seq, simple = prepared
         if step % self.every == 0:
             memory = seq[:, step // self.every].astype(np.float64)[:, None]

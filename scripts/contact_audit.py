@@ -25,6 +25,7 @@ import argparse
 import json
 import sys
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -32,13 +33,15 @@ from locustjump import rundir
 from locustjump.present.episodes import deepest_contact, score_run
 from locustjump.runs.multiseed import parse_seeds
 from locustjump.sim import names
-from locustjump.sim.engine.backends import ThreadBackend
+from locustjump.sim.engine.backends import Backend, ThreadBackend
 
 #: the penetration gate of tests/test_debris.py (body lengths)
 GATE_BL = 0.05
 
 
-def audit(run: Path, seeds: list[int], substeps: int | None, backend) -> dict:
+def audit(
+    run: Path, seeds: list[int], substeps: int | None, backend: Backend
+) -> dict[str, Any]:
     """One run's row (see the module's doc)."""
     cfg = rundir.load_config(run / rundir.CONFIG)
     p = cfg.model if substeps is None else cfg.model.replace(substeps=substeps)

@@ -69,6 +69,7 @@ import dataclasses
 import json
 import sys
 from pathlib import Path
+from typing import Any, cast
 
 import numpy as np
 from scipy.stats import mannwhitneyu
@@ -80,10 +81,11 @@ from locustjump.runs.learning import late_gain
 from locustjump.runs.multiseed import parse_seeds
 from locustjump.sim import model as lm
 from locustjump.sim.analysis import find_jumps, stuck_overturned
-from locustjump.sim.engine.backends import ThreadBackend
+from locustjump.sim.controller import Controller
+from locustjump.sim.engine.backends import Backend, ThreadBackend
 from locustjump.sim.engine.job import CONTACT_RECORDS
-from locustjump.sim.engine.rollout import RolloutResult, rollout
-from locustjump.sim.scene import Debris
+from locustjump.sim.engine.rollout import RolloutResult, StartStates, rollout
+from locustjump.sim.scene import Debris, Scene
 from locustjump.tasks import get_behaviour
 from locustjump.tasks.composed import OVERTURNED_UZ, START_ROLL, overturns
 from locustjump.tasks.getup import rolled_starts
@@ -101,7 +103,14 @@ STEPS = 3000
 FIELD = Debris(wall_margin=0.0)
 
 
-def episodes(ctrl, params, starts, p, scene, backend) -> list[dict]:
+def episodes(
+    ctrl: Controller,
+    params: np.ndarray,
+    starts: StartStates,
+    p: lm.LocustParams,
+    scene: Scene,
+    backend: Backend,
+) -> list[dict[str, Any]]:
     """Debris fitness and its terms, jumps, overturns, wall contact and
     deepest penetration of each controller row of ``params``
     (``present.episodes.episode_score`` in the composed behaviour's episode)."""
@@ -109,7 +118,8 @@ def episodes(ctrl, params, starts, p, scene, backend) -> list[dict]:
     res = rollout(ctrl, params, starts, STEPS, model_params=p, scene=scene,
                   record=record, backend=backend)  # fmt: skip
     here = get_behaviour("monolithic").on(scene)  # the composed one's episode
-    half = scene.width / 2 * p.body_length  # the rubble's half width (m)
+    # the rubble's half width (m); a debris field here (FIELD's, or a run's own)
+    half = cast(Debris, scene).width / 2 * p.body_length
     rows = []
     for e, (q, obs) in enumerate(zip(res["qpos"], res["obs"], strict=True)):
         one = RolloutResult({k: v[e : e + 1] for k, v in res.records.items()},
@@ -139,8 +149,8 @@ def episodes(ctrl, params, starts, p, scene, backend) -> list[dict]:
 
 
 def references(
-    flat: list[Path], seeds: list[int], p: lm.LocustParams, backend
-) -> dict[str, list]:
+    flat: list[Path], seeds: list[int], p: lm.LocustParams, backend: Backend
+) -> dict[str, list[dict[str, Any]]]:
     """Per controller label, its row on every terrain of ``seeds``."""
     rules = RuleController.for_model(p)
     hybrids = {
@@ -148,7 +158,7 @@ def references(
         "U_z < 0.5, I6 >= 0.8": RuleGetupController(rules, 0.5, 0.8),
     }
     getups = [rundir.load_run(r / "getup")[2].genome for r in flat]
-    out: dict[str, list] = {}
+    out: dict[str, list[dict[str, Any]]] = {}
     for s in seeds:
         scene = FIELD.with_seed(s)
         starts = {"standing": ready_state(p, scene),
@@ -174,7 +184,9 @@ def references(
     return out
 
 
-def run_rows(run: Path, seeds: list[int], p: lm.LocustParams, backend) -> list[dict]:
+def run_rows(
+    run: Path, seeds: list[int], p: lm.LocustParams, backend: Backend
+) -> list[dict[str, Any]]:
     """A run's best genome in its behaviour's episode on each debris terrain
     of ``seeds`` (of its own debris parameters; the default ones for a run
     trained on the flat floor), simulated with ``p``'s physics."""
@@ -189,7 +201,7 @@ def run_rows(run: Path, seeds: list[int], p: lm.LocustParams, backend) -> list[d
     return rows
 
 
-def summary(label: str, rows: list[dict]) -> dict:
+def summary(label: str, rows: list[dict[str, Any]]) -> dict[str, Any]:
     f = np.array([r["fitness"] for r in rows])
     return {
         "controller": label,
@@ -231,7 +243,7 @@ def flat_floor(
 
 def group_table(
     what: str, held: dict[str, list[float]], late: dict[str, list[float]]
-) -> list[dict]:
+) -> list[dict[str, str | float]]:
     """Print per group its runs' ``what`` (one sample each), median and range,
     and a two-sided Mann-Whitney U test between every two groups; return the
     tests."""
@@ -244,7 +256,7 @@ def group_table(
         print(f"| {g} | {len(v)} | {', '.join(f'{x:.0f}' for x in v)} | "
               f"{np.median(v):.0f} [{min(v):.0f}, {max(v):.0f}] | "
               f"{np.median(late[g]):.0%} |")  # fmt: skip
-    tests = []
+    tests: list[dict[str, str | float]] = []
     for i, a in enumerate(groups):
         for b in groups[i + 1 :]:
             if len(held[a]) > 1 and len(held[b]) > 1:

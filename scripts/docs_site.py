@@ -19,8 +19,10 @@ from __future__ import annotations
 
 import re
 from pathlib import Path
+from typing import Any
 
 import griffe
+from mkdocs.config.defaults import MkDocsConfig
 from mkdocs.structure.files import File, Files, InclusionLevel
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -35,7 +37,7 @@ class _Shipped(File):
         return False
 
 
-def on_files(files: Files, config) -> Files:
+def on_files(files: Files, config: MkDocsConfig) -> Files:
     for pattern in SHIPPED:
         for path in sorted((ROOT / "results").rglob(pattern)):
             rel = path.relative_to(ROOT).as_posix()
@@ -55,7 +57,7 @@ _ROLE = re.compile(r":(?:mod|func|class|meth|attr|data|exc|obj):`(~?)\.?([\w.]+)
 _RULE = re.compile(r"^( *)(=+)(?: +=+)+ *$")
 
 
-def _role(m: re.Match) -> str:
+def _role(m: re.Match[str]) -> str:
     short, path = m.groups()
     return f"`{path.rsplit('.', 1)[-1] if short else path}`"
 
@@ -126,6 +128,6 @@ def rst_to_markdown(text: str) -> str:
 
 
 class RstDocstrings(griffe.Extension):
-    def on_instance(self, *, obj: griffe.Object, **kwargs) -> None:
+    def on_instance(self, *, obj: griffe.Object, **kwargs: Any) -> None:
         if obj.docstring is not None:
             obj.docstring.value = rst_to_markdown(obj.docstring.value)

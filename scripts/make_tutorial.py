@@ -10,6 +10,7 @@ this script and the notebook agree.
 from __future__ import annotations
 
 import sys
+from collections.abc import Callable
 from pathlib import Path
 
 import nbformat
@@ -177,14 +178,17 @@ print(f"a random policy's kick return: {ret:.4f}; our evolved kick: "
 
 
 def notebook() -> nbformat.NotebookNode:
-    nb = nbformat.v4.new_notebook()
+    nb: nbformat.NotebookNode = nbformat.v4.new_notebook()
     nb.metadata["kernelspec"] = {
         "display_name": "Python 3",
         "language": "python",
         "name": "python3",
     }
     nb.metadata["language_info"] = {"name": "python"}
-    make = {"md": nbformat.v4.new_markdown_cell, "code": nbformat.v4.new_code_cell}
+    make: dict[str, Callable[[str], nbformat.NotebookNode]] = {
+        "md": nbformat.v4.new_markdown_cell,
+        "code": nbformat.v4.new_code_cell,
+    }
     nb.cells = [make[kind](src) for kind, src in CELLS]
     for i, cell in enumerate(nb.cells):
         cell["id"] = f"cell-{i}"  # stable ids: the file does not change on rerun

@@ -37,6 +37,7 @@ import sys
 import time
 from fnmatch import fnmatch
 from pathlib import Path
+from typing import TypedDict
 
 from mutation_equivalent import EQUIVALENT
 
@@ -295,7 +296,18 @@ def listed(name: str, line: str) -> str | None:
     return None
 
 
-def summary(module: str) -> dict | None:
+class Summary(TypedDict):
+    """A module's results: counts, the equivalent ``(name, line, why)`` and
+    surviving ``(name, line)`` mutants, and mutmut's wall time (s)."""
+
+    mutants: int
+    killed: int
+    equivalent: list[tuple[str, str, str]]
+    survived: list[tuple[str, str]]
+    wall: float
+
+
+def summary(module: str) -> Summary | None:
     codes = meta(module)
     if not codes:
         return None
@@ -335,7 +347,7 @@ def label(module: str) -> str:
     return f"{module} ({PART.get(module, 'fitness')})"
 
 
-def write_doc(results: dict[str, dict | None]) -> None:
+def write_doc(results: dict[str, Summary | None]) -> None:
     rows, details = [], []
     total = {"mutants": 0, "killed": 0, "eq": 0, "sv": 0, "wall": 0.0}
     for module, s in results.items():

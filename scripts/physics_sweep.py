@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import argparse
 import time
+from typing import Any
 
 import mujoco
 import numpy as np
@@ -54,7 +55,9 @@ def rest(p: lm.LocustParams, seconds: float = 10.0) -> tuple[float, float, float
     return drift, float(np.linalg.norm(d.qvel[:3])), pen
 
 
-def stress(p: lm.LocustParams, episodes: int, seconds: float, seed: int = 0):
+def stress(
+    p: lm.LocustParams, episodes: int, seconds: float, seed: int = 0
+) -> tuple[int, float, float]:
     """Random-delta episodes: count of NaN/warning episodes, peak penetration."""
     m = lm.load_model(p)
     d = mujoco.MjData(m)
@@ -94,7 +97,7 @@ def main() -> None:
         "--set", nargs="*", default=[], help="extra LocustParams fields, k=v"
     )
     args = ap.parse_args()
-    extra = {}
+    extra: dict[str, Any] = {}  # LocustParams fields: each of its own type
     for kv in args.set:
         k, v = kv.split("=")
         default = getattr(lm.LocustParams(), k)

@@ -9,17 +9,20 @@ median and worst best-fitness (maximised: minus the function value).
 
 from __future__ import annotations
 
+from typing import cast
+
 import numpy as np
 
 from locustjump.evo.rcga import CROSSOVERS, RCGA, RCGAParams
 
 
 def sphere(x: np.ndarray) -> np.ndarray:
-    return -np.sum(x**2, axis=1)
+    return cast(np.ndarray, -np.sum(x**2, axis=1))  # (n,): a sum over axis 1
 
 
 def rastrigin(x: np.ndarray) -> np.ndarray:
-    return -(10 * x.shape[1] + np.sum(x**2 - 10 * np.cos(2 * np.pi * x), axis=1))
+    value = 10 * x.shape[1] + np.sum(x**2 - 10 * np.cos(2 * np.pi * x), axis=1)
+    return cast(np.ndarray, -value)  # (n,): a sum over axis 1
 
 
 def main() -> None:

@@ -37,10 +37,14 @@ STRUT_STIFFNESSES = (2.5e-6, 1e-5, 5e-5, 2e-4)
 class Tally:
     """Counts settings with a Fig. 5-like decline; prints one line a setting."""
 
+    spreads: list[float]
+
     def __init__(self) -> None:
         self.declining, self.settings, self.spreads = 0, 0, []
 
-    def add(self, label: str, qpos: np.ndarray, up_z: float, p: lm.LocustParams):
+    def add(
+        self, label: str, qpos: np.ndarray, up_z: float, p: lm.LocustParams
+    ) -> None:
         jumps = analysis.find_jumps(qpos, p)
         apex = np.array([j.apex_height for j in jumps])
         full = apex[apex > 0.5 * apex.max()] if apex.size else apex
@@ -71,7 +75,7 @@ class Tally:
 COLUMNS = "jumps  full  full-jump apex first..last (m)  spread but last  final U_z"
 
 
-def run(p: lm.LocustParams, rc: RuleController):
+def run(p: lm.LocustParams, rc: RuleController) -> tuple[np.ndarray, np.ndarray]:
     res = rollout(
         rc, rc.params_for(np.asarray(CHANGE_TIMES)),
         StartStates.ready(lm.load_model(p)), 3000, model_params=p,

@@ -29,6 +29,7 @@ import numpy as np
 from locustjump import rundir
 from locustjump.sim import model as lm
 from locustjump.sim.analysis import find_jumps
+from locustjump.sim.controller import Controller
 from locustjump.sim.engine.rollout import StartStates, rollout
 from locustjump.tasks.composed import START_ROLL, overturns
 from locustjump.tasks.getup import rolled_starts
@@ -43,7 +44,9 @@ STEPS = 3000
 HANDOVER = ((0.0, 0.0), (0.5, 0.8))
 
 
-def episode(ctrl, params, starts: StartStates, p: lm.LocustParams) -> dict:
+def episode(
+    ctrl: Controller, params: np.ndarray, starts: StartStates, p: lm.LocustParams
+) -> dict[str, float | int | bool]:
     """Sum of z over steps 1..3000, jumps, overturns of one episode."""
     res = rollout(ctrl, params, starts, STEPS, model_params=p, record=("qpos", "obs"))
     q, uz = res["qpos"][0], res["obs"][0, :, 8]

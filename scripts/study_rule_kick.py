@@ -49,13 +49,13 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("runs", nargs="+", type=Path, help="kick-apex run directories")
     args = ap.parse_args()
-    best = {}
+    best: dict[Path, float] = {}
     for d in args.runs:
         cfg, _, b = rundir.load_run(d)
         if not cfg.behaviour.startswith("kick-apex"):
             sys.exit(f"error: {d}: a {cfg.behaviour} run, not an apex run")
         best[d] = b.fitness
-    top = max(best, key=best.get)
+    top = max(best, key=best.__getitem__)
     ceiling = best[top]
     print(f"ceiling: apex rise {ceiling:.3f} m ({top}, best of {len(best)} runs)\n")
     p = lm.LocustParams()

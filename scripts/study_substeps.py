@@ -25,11 +25,12 @@ import numpy as np
 
 from locustjump import rundir
 from locustjump.present.compare import _key, mann_whitney
+from locustjump.rundir.config import TrainConfig
 
 SUBSTEPS = (3, 6, 12, 24)
 
 
-def fitness_at(run: Path) -> tuple[object, list[float]]:
+def fitness_at(run: Path) -> tuple[TrainConfig, list[float]]:
     """(config, fitness of the best genome at each of SUBSTEPS)."""
     cfg, beh, best = rundir.load_run(run)
     out = []

@@ -58,7 +58,14 @@ class HandSwitch:
         k = self.net.num_params
         return [self.net.prepare(params[:, i * k : (i + 1) * k]) for i in range(3)]
 
-    def act(self, nets, memory, obs, targets, step):
+    def act(
+        self,
+        nets: list[MLPWeights],
+        memory: np.ndarray,
+        obs: np.ndarray,
+        targets: np.ndarray,
+        step: int,
+    ) -> tuple[np.ndarray, np.ndarray]:
         if step % self.every == 0:
             last = memory[:, 0] if step else np.full(len(obs), float(RETURN))
             pick = np.where(last == KICK, RETURN, KICK)

@@ -52,7 +52,7 @@ from locustjump.evo.base import (
 from locustjump.ranges import Range, SettingValueError, check_settings, setting
 
 Crossover = Literal["blx", "sbx", "undx"]
-CROSSOVERS: tuple[str, ...] = ("blx", "sbx", "undx")
+CROSSOVERS: tuple[Crossover, ...] = ("blx", "sbx", "undx")
 F64 = NDArray[np.float64]
 
 #: a probability
