@@ -17,7 +17,12 @@ ships only the runs that are finished and leaves the others, for a study that
 is still training: each arm's ``paths = { "SEED" = "DIR", ... }`` line then
 names its shipped seeds, and the study trains the rest where it did (a study
 moved to another machine continues from what was shipped; docs/studies.md,
-Publishing a finished study).
+Publishing a finished study). ``--update-file`` writes those lines into the
+study file itself (replacing each shipped arm's ``path``/``paths`` line;
+nothing else in the file changes), and ``--carry ARCHIVE`` packs the runs
+still training, checkpoints included, into a ``.tar.gz`` to continue them
+elsewhere (``tar xzf ARCHIVE --skip-old-files`` there, from the same
+directory; refused while a process trains one of them).
 
 Everything is checked before anything is written: every run must have its
 configuration's generations, and a run already shipped must be the same run
@@ -28,11 +33,14 @@ beside its destination and renamed, so no half-copied run is left behind.
 
 import argparse
 import filecmp
+import re
 import shutil
 import sys
+import tarfile
 import tempfile
 from pathlib import Path
 
+from locustjump import rundir
 from locustjump.errors import UserError
 from locustjump.runs.study import generations_done
 from locustjump.runs.studyfile import load_study
@@ -122,6 +130,61 @@ def paths_lines(study_file: str, to: Path, prefix: str) -> list[str]:
     ]
 
 
+def updated(text: str, lines: list[str]) -> str:
+    """The study file's ``text`` with each arm's ``path``/``paths`` line
+    replaced by its line in ``lines`` (``[arms.NAME]`` then the key line),
+    placed right below the arm's header; everything else as it was."""
+    for line in lines:
+        head, key = line.split("\n")
+        at = re.search(rf"^{re.escape(head)}[ \t]*\n", text, re.M)
+        if at is None:
+            raise UserError(f"no {head} table in the study file: write it by hand")
+        start = at.end()
+        nxt = re.search(r"^\[", text[start:], re.M)
+        end = start + nxt.start() if nxt else len(text)
+        body = re.sub(r"^paths? *=.*\n?", "", text[start:end], flags=re.M)
+        text = text[:start] + key + "\n" + body + text[end:]
+    return text
+
+
+def update_file(study_file: str, lines: list[str]) -> None:
+    """Write ``lines`` into the study file, atomically, once the changed
+    file has loaded as a study (``UserError`` otherwise, the file as it was)."""
+    path = Path(study_file)
+    text = updated(path.read_text(), lines)
+    with tempfile.TemporaryDirectory() as tmp:
+        check = Path(tmp) / path.name
+        check.write_text(text)
+        load_study(check)
+    rundir.atomic_write_text(path, text)
+
+
+def to_carry(study_file: str, to: Path) -> list[Path]:
+    """The run directories of the study that are started, unfinished and not
+    under ``to``; ``UserError`` naming a run another process trains."""
+    out = []
+    for arm, seed in load_study(study_file).runs():
+        d = arm.run_dir(seed)
+        if d.resolve().is_relative_to(to.resolve()) or not rundir.is_run(d):
+            continue
+        if generations_done(d) == arm.base.generations:
+            continue
+        who = rundir.in_use(d)
+        if who:
+            raise UserError(f"{d}: {who} trains it; stop the study's workers first")
+        out.append(d)
+    return out
+
+
+def carry(runs: list[Path], archive: Path) -> None:
+    """Pack ``runs`` (every file, checkpoints included) into ``archive``,
+    written whole or not at all."""
+    archive.parent.mkdir(parents=True, exist_ok=True)
+    with rundir.atomic_path(archive) as tmp, tarfile.open(tmp, "w:gz") as tf:
+        for d in runs:
+            tf.add(d)
+
+
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("study", help="the study file (.toml)")
@@ -131,16 +194,36 @@ def main(argv: list[str] | None = None) -> int:
                    help="names the runs PREFIX-ARM-s<seed>")  # fmt: skip
     p.add_argument("--finished", action="store_true",
                    help="ship the finished runs of a study still training")  # fmt: skip
+    p.add_argument("--update-file", action="store_true",
+                   help="write the path(s) lines into the study file")  # fmt: skip
+    p.add_argument("--carry", type=Path, metavar="ARCHIVE",
+                   help="pack the unfinished runs into ARCHIVE (.tar.gz)")  # fmt: skip
     args = p.parse_args(argv)
     try:
+        if args.carry and args.carry.suffixes[-2:] != [".tar", ".gz"]:
+            raise UserError(f"--carry {args.carry}: name a .tar.gz file")
         pairs = plan(args.study, args.to, args.prefix, args.finished)
+        runs = to_carry(args.study, args.to) if args.carry else []
     except UserError as e:
         print(f"ship_study: {e}", file=sys.stderr)
         return 2
     ship(pairs)
-    print(f"shipped {len(pairs)} runs to {args.to}; the study file's arms:")
-    lines = paths_lines if args.finished else path_lines
-    print("\n".join(lines(args.study, args.to, args.prefix)))
+    lines = (paths_lines if args.finished else path_lines)(
+        args.study, args.to, args.prefix
+    )
+    if args.update_file:
+        try:
+            update_file(args.study, lines)
+        except UserError as e:
+            print(f"ship_study: {e}", file=sys.stderr)
+            return 2
+        print(f"shipped {len(pairs)} runs to {args.to}; {args.study} names them")
+    else:
+        print(f"shipped {len(pairs)} runs to {args.to}; the study file's arms:")
+        print("\n".join(lines))
+    if args.carry:
+        carry(runs, args.carry)
+        print(f"packed {len(runs)} unfinished runs into {args.carry}")
     return 0
 
 

@@ -6,13 +6,16 @@ a study's finished runs retrained and compared to the last digit."""
 import importlib.util
 import re
 import shutil
+import subprocess
+import tarfile
 from pathlib import Path
 
 import pytest
 
-from helpers import run_cli, tree_snapshot
+from helpers import held_lock, run_cli, tree_snapshot
 from locustjump import rundir
 from locustjump.runs.studyfile import load_study
+from locustjump.runs.trainer import train
 
 REPO = Path(__file__).resolve().parents[1]
 EXAMPLE = REPO / "studies" / "example.toml"
@@ -127,6 +130,68 @@ def test_a_study_still_training_ships_its_finished_runs_and_continues(
     assert ship_study.main(args) == 0
     out = capsys.readouterr().out
     assert '"2" = "' in out and out.count('"0" = "') == 2
+
+
+def test_a_study_banked_on_one_machine_continues_on_another(
+    trained, tmp_path, monkeypatch, capsys
+):
+    """--finished --update-file --carry, as at the end of a session on a
+    machine that may be lost: the finished runs shipped and named in the
+    study file (nothing else in it changed), rcga's seed 2, stopped after 2
+    of 4 generations, packed with its checkpoint; on a machine with only the
+    checkout and the archive, the study continues it from generation 2 and
+    trains random's seed 2. Refused, with nothing written, while a process
+    trains a run it would pack."""
+    monkeypatch.chdir(tmp_path)
+    shutil.copytree(trained.parent / "runs", "runs")
+    text = (
+        trained.read_text()
+        .replace('seeds = "0-1"', 'seeds = "0-2"')
+        .replace(str(trained.parent / "runs"), "runs")
+    )
+    Path("s.toml").write_text(text)
+    arm = load_study("s.toml").arms["rcga"]
+    train(arm.config(2), arm.run_dir(2), progress=False, stop_after=2)
+    stopped = (arm.run_dir(2) / rundir.METRICS).read_text()
+    args = ["s.toml", "--to", "results", "--prefix", "ex", "--finished",
+            "--update-file", "--carry", "carry/s.tar.gz"]  # fmt: skip
+    holder = held_lock(arm.run_dir(2))
+    try:
+        before = tree_snapshot(tmp_path)
+        assert ship_study.main(args) == 2
+    finally:
+        holder.kill()
+        holder.wait()
+    err = capsys.readouterr().err
+    assert f"process {holder.pid} trains it" in err and len(err.splitlines()) == 1
+    assert tree_snapshot(tmp_path) == before
+    assert ship_study.main(args) == 0
+    out = capsys.readouterr().out
+    assert "shipped 4 runs to results; s.toml names them" in out
+    assert "packed 1 unfinished runs into carry/s.tar.gz" in out
+    named = Path("s.toml").read_text()
+    assert re.sub(r"paths = .*\n", "", named) == text
+    assert 'paths = { "0" = "results/ex-rcga-s0", "1" = "results/ex-rcga-s1" }' in named
+    with tarfile.open("carry/s.tar.gz") as tf:
+        assert sorted(tf.getnames()) == sorted(
+            ["runs/rcga/seed-2"] + [f"runs/rcga/seed-2/{p.name}"
+                                    for p in arm.run_dir(2).iterdir()])  # fmt: skip
+    assert (arm.run_dir(2) / rundir.CHECKPOINT).is_file()
+    # another machine: the checkout (study file, results/) and the archive
+    shutil.rmtree("runs")
+    subprocess.run(["tar", "xzf", "carry/s.tar.gz", "--skip-old-files"], check=True)
+    r = run_cli("study", "s.toml", "--quiet", "--threads", "2")
+    assert r.returncode == 0, r.stderr
+    assert "4 of 6 runs done, 2 to train" in r.stdout + r.stderr
+    metrics = (arm.run_dir(2) / rundir.METRICS).read_text()
+    assert metrics.startswith(stopped) and len(metrics.splitlines()) == 5
+    assert not Path("runs/rcga/seed-0").exists()  # the shipped runs counted
+    # banked again at the end: each arm's paths line replaced, not repeated
+    assert ship_study.main(args) == 0
+    assert "packed 0 unfinished runs" in capsys.readouterr().out
+    named = Path("s.toml").read_text()
+    assert re.sub(r"paths = .*\n", "", named) == text
+    assert named.count("paths = ") == 2 and '"2" = "results/ex-random-s2" }' in named
 
 
 def test_another_run_under_the_same_name_is_refused(trained, tmp_path, capsys):
