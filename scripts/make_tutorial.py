@@ -141,7 +141,7 @@ ccfg = lj.TrainConfig(
 )
 composed = lj.train(ccfg, WORK / "composed", frozen=frozen, progress=False)
 print(f"successive-jump fitness {composed.best.fitness:.1f} "
-      f"(shipped, 100 generations: see results/paper-seed0/results.md)")"""),
+      f"(shipped, 1000 generations: see results/paper-seed0/results.md)")"""),
     ("md", """\
 ## 5. A Gymnasium environment
 

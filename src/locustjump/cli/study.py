@@ -46,7 +46,8 @@ def add_study_command(sub: argparse._SubParsersAction[argparse.ArgumentParser]) 
         "--table",
         action="store_true",
         help="score every run's best genome as the study's [evaluation] says and "
-        "write OUT/table.md, table.json and learning.png (runs must be finished)",
+        "write OUT/table.md, table.json, learning.png and scores.png (runs "
+        "must be finished)",
     )
     p.add_argument(
         "--seeds",
