@@ -111,16 +111,19 @@ def path_lines(study_file: str, to: Path, prefix: str) -> list[str]:
     return out
 
 
-def paths_lines(study_file: str, to: Path, prefix: str) -> list[str]:
+def paths_lines(
+    study_file: str, to: Path, prefix: str, coming: frozenset[Path] = frozenset()
+) -> list[str]:
     """The ``[arms.NAME]`` header and ``paths`` line of each arm with shipped
-    runs: every seed whose run is under ``to``, shipped before or now."""
+    runs: every seed whose run is under ``to``, shipped before or about to be
+    (``coming``: their destinations)."""
     study = load_study(study_file)
     shipped: dict[str, dict[int, Path]] = {}
     for arm, seed in study.runs():
         run = arm.run_dir(seed)
         if not run.resolve().is_relative_to(to.resolve()):
             run = to / f"{prefix}-{arm.name}-s{seed}"
-        if run.is_dir():
+        if run.is_dir() or run in coming:
             shipped.setdefault(arm.name, {})[seed] = run
     return [
         f"[arms.{name}]\npaths = {{ "
@@ -136,7 +139,7 @@ def updated(text: str, lines: list[str]) -> str:
     placed right below the arm's header; everything else as it was."""
     for line in lines:
         head, key = line.split("\n")
-        at = re.search(rf"^{re.escape(head)}[ \t]*\n", text, re.M)
+        at = re.search(rf"^{re.escape(head)}[ \t]*(#.*)?\n", text, re.M)
         if at is None:
             raise UserError(f"no {head} table in the study file: write it by hand")
         start = at.end()
@@ -147,16 +150,16 @@ def updated(text: str, lines: list[str]) -> str:
     return text
 
 
-def update_file(study_file: str, lines: list[str]) -> None:
-    """Write ``lines`` into the study file, atomically, once the changed
-    file has loaded as a study (``UserError`` otherwise, the file as it was)."""
+def update(study_file: str, lines: list[str]) -> str:
+    """The study file's new text with ``lines`` written in, once it has loaded
+    as a study (``UserError`` otherwise)."""
     path = Path(study_file)
     text = updated(path.read_text(), lines)
     with tempfile.TemporaryDirectory() as tmp:
         check = Path(tmp) / path.name
         check.write_text(text)
         load_study(check)
-    rundir.atomic_write_text(path, text)
+    return text
 
 
 def to_carry(study_file: str, to: Path) -> list[Path]:
@@ -204,19 +207,18 @@ def main(argv: list[str] | None = None) -> int:
             raise UserError(f"--carry {args.carry}: name a .tar.gz file")
         pairs = plan(args.study, args.to, args.prefix, args.finished)
         runs = to_carry(args.study, args.to) if args.carry else []
+        if args.finished:
+            coming = frozenset(dest for _, dest in pairs)
+            lines = paths_lines(args.study, args.to, args.prefix, coming)
+        else:
+            lines = path_lines(args.study, args.to, args.prefix)
+        text = update(args.study, lines) if args.update_file else None
     except UserError as e:
         print(f"ship_study: {e}", file=sys.stderr)
         return 2
     ship(pairs)
-    lines = (paths_lines if args.finished else path_lines)(
-        args.study, args.to, args.prefix
-    )
-    if args.update_file:
-        try:
-            update_file(args.study, lines)
-        except UserError as e:
-            print(f"ship_study: {e}", file=sys.stderr)
-            return 2
+    if text is not None:
+        rundir.atomic_write_text(Path(args.study), text)
         print(f"shipped {len(pairs)} runs to {args.to}; {args.study} names them")
     else:
         print(f"shipped {len(pairs)} runs to {args.to}; the study file's arms:")

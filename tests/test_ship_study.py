@@ -148,6 +148,7 @@ def test_a_study_banked_on_one_machine_continues_on_another(
         trained.read_text()
         .replace('seeds = "0-1"', 'seeds = "0-2"')
         .replace(str(trained.parent / "runs"), "runs")
+        .replace("[arms.random]\n", "[arms.random]  # the baseline\n")
     )
     Path("s.toml").write_text(text)
     arm = load_study("s.toml").arms["rcga"]
@@ -192,6 +193,22 @@ def test_a_study_banked_on_one_machine_continues_on_another(
     named = Path("s.toml").read_text()
     assert re.sub(r"paths = .*\n", "", named) == text
     assert named.count("paths = ") == 2 and '"2" = "results/ex-random-s2" }' in named
+
+
+def test_a_study_file_it_cannot_update_is_refused_before_anything_is_shipped(
+    trained, tmp_path, capsys
+):
+    """An arm's table it cannot find (``[arms."rcga"]``, valid TOML): one
+    line, exit 2, nothing shipped, the file as it was."""
+    quoted = tmp_path / "quoted.toml"
+    quoted.write_text(trained.read_text().replace("[arms.rcga]", '[arms."rcga"]'))
+    before = tree_snapshot(tmp_path)
+    args = [str(quoted), "--to", str(tmp_path / "results"), "--prefix", "ex",
+            "--finished", "--update-file"]  # fmt: skip
+    assert ship_study.main(args) == 2
+    err = capsys.readouterr().err
+    assert "no [arms.rcga] table" in err and len(err.splitlines()) == 1
+    assert tree_snapshot(tmp_path) == before
 
 
 def test_another_run_under_the_same_name_is_refused(trained, tmp_path, capsys):
