@@ -24,7 +24,8 @@ from pathlib import Path
 import numpy as np
 
 from locustjump import rundir
-from locustjump.present.compare import _key, mann_whitney
+from locustjump.present.compare import _key
+from locustjump.present.stats import mann_whitney
 from locustjump.rundir.config import TrainConfig
 
 SUBSTEPS = (3, 6, 12, 24)

@@ -9,7 +9,8 @@ import pytest
 from helpers import exit_status
 from locustjump import rundir
 from locustjump.evo import params_class
-from locustjump.present.compare import Group, load_groups, mann_whitney, table
+from locustjump.present.compare import Group, load_groups, table
+from locustjump.present.stats import mann_whitney
 from locustjump.rundir.config import TrainConfig
 from locustjump.runs.trainer import train
 
@@ -86,16 +87,16 @@ def test_table_states_the_interval_and_the_verdict():
     # = 0.0325), the interval [D(14), D(51)] of the 64 differences 20 + t,
     # t = i - j (i, j = 0..7), 8 - |t| times each: D(11..15) = 17, D(50..54)
     # = 23. TOST p 1 (20 is far outside +-5); the seeds per arm from the
-    # pooled sd 2.449: 2 * 7.849 * 6 / 25 / 0.955 = 3.95 -> 4
+    # pooled sd 2.449: 2 * 7.849 * 6 / 25 / 0.955 = 3.95, + 0.960 -> 5
     assert lines[3].endswith(
-        "| 20 [17, 23] | 0.000155 | 1 | 4 | cma better than rcga |"
+        "| 20 [17, 23] | 0.000155 | 1 | 5 | cma better than rcga |"
     )
     assert "| -20 [-23, -17] |" in lines[4] and lines[4].endswith(
         "| rcga better than random |"
     )
     # identical but for 0.1: within +-5, though 0.1 [-2.9, 3.1] at 95 %
     assert lines[5].endswith(
-        "| 0.1 [-2.9, 3.1] | 0.721 | 0.00233 | 4 | equivalent within ±5 |"
+        "| 0.1 [-2.9, 3.1] | 0.721 | 0.00233 | 5 | equivalent within ±5 |"
     )
     assert lines[6].endswith("| - | - | - | - | no test: a group of one run |")
     assert "TOST" not in table(groups)  # without a margin, no such columns

@@ -14,6 +14,7 @@ from locustjump.present.stats import (
     _u_cdf,
     compare_samples,
     hodges_lehmann,
+    mann_whitney,
     p_text,
     pairs_table,
     pooled_spread,
@@ -144,20 +145,68 @@ def test_tost():
     assert tost(a, a + 5, 1.0) > 0.5  # 5 apart: not within 1
     # a 1.5 shift is outside +-1 on one side only: that side decides
     p = tost(a + 1.5, a, 1.0)
-    assert p == scipy_stats.mannwhitneyu(a + 0.5, a, alternative="less").pvalue
-    assert p > 0.9
+    exact = scipy_stats.mannwhitneyu(a + 0.5, a, alternative="less", method="exact")
+    assert p == pytest.approx(exact.pvalue, rel=1e-12, abs=0) and p > 0.9
+
+
+def _brute_p(x, y, alternative):
+    """p of the rank sum of ``x`` over every split of the pooled midranks."""
+    both = np.concatenate([x, y])
+    r = scipy_stats.rankdata(both)
+    obs = r[: len(x)].sum()
+    sums = np.array([r[list(c)].sum() for c in itertools.combinations(
+        range(both.size), len(x))])  # fmt: skip
+    low, high = np.mean(sums <= obs + 1e-9), np.mean(sums >= obs - 1e-9)
+    return {"greater": high, "less": low, "two-sided": min(1, 2 * min(low, high))}[
+        alternative
+    ]
+
+
+@pytest.mark.parametrize("alternative", ["two-sided", "greater", "less"])
+def test_mann_whitney_is_exact_given_the_ties(alternative):
+    """Every split of the pooled values counted, ties taking their midrank;
+    without ties SciPy's exact test; U as SciPy counts it."""
+    rng = np.random.default_rng(7)
+    for m, n in ((2, 3), (3, 3), (4, 5), (6, 4), (7, 7)):
+        tied = rng.integers(0, 4, m).astype(float), rng.integers(0, 4, n).astype(float)
+        u, p = mann_whitney(*tied, alternative)
+        assert p == pytest.approx(_brute_p(*tied, alternative), rel=1e-12, abs=1e-15)
+        assert u == scipy_stats.mannwhitneyu(*tied, alternative=alternative).statistic
+        x, y = rng.normal(size=m), rng.normal(size=n)
+        theirs = scipy_stats.mannwhitneyu(x, y, alternative=alternative, method="exact")
+        assert mann_whitney(x, y, alternative) == pytest.approx(
+            (theirs.statistic, theirs.pvalue), rel=1e-12
+        )
+
+
+def test_the_p_value_and_the_interval_agree():
+    """9 against 12 without ties: the interval excludes 0, so p < 0.05 (SciPy's
+    default, the normal approximation above 8 a sample, says 0.0507); 3
+    against 3 with a tie cannot reach p < 0.05 (the approximation: 0.038)."""
+    x = [0, 1, 2, 3, 4, 5, 8, 19, 20]
+    y = [6, 7, *range(9, 19)]
+    c = compare_samples(x, y)
+    assert c.high < 0 and c.p == pytest.approx(0.0490729085156, rel=1e-9)
+    assert tost([0, 0, 1], [0, 0.5, 1], 5.0) == pytest.approx(0.05)
+    assert compare_samples([0, 0, 1], [0, 0.5, 1], margin=5.0).verdict.startswith(
+        "no evidence either way"
+    )
 
 
 def test_seeds_for_power_by_hand():
     # z(0.975) + z(0.8) = 1.959964 + 0.841621 = 2.801585, squared 7.848879;
     # spread 1, delta 1: 2 * 7.848879 / (3/pi = 0.954930) = 16.439 -> 17
-    assert seeds_for_power(1.0, 1.0) == 17
-    assert seeds_for_power(2.0, 1.0) == 66  # 4 * 16.439 = 65.76
-    assert seeds_for_power(1.0, 2.0) == 5  # 16.439 / 4 = 4.11
-    assert seeds_for_power(0.01, 1.0) == 2  # never below two
+    # plus the small-sample term z(0.975)^2 / 4 = 0.960: 17.40 -> 18
+    assert seeds_for_power(1.0, 1.0) == 18
+    assert seeds_for_power(2.0, 1.0) == 67  # 4 * 16.439 + 0.960 = 66.72
+    assert seeds_for_power(1.0, 2.0) == 6  # 16.439 / 4 + 0.960 = 5.07
+    # never below 4: 3 against 3 cannot reach p = 0.05 (its least p is 0.1)
+    assert seeds_for_power(0.01, 1.0) == 4
     assert seeds_for_power(0.0, 1.0) is None
-    # alpha 0.01, power 0.9: (2.575829 + 1.281552)^2 = 14.879 -> 31.16 -> 32
-    assert seeds_for_power(1.0, 1.0, alpha=0.01, power=0.9) == 32
+    # alpha 0.01, power 0.9: (2.575829 + 1.281552)^2 = 14.879 -> 31.16,
+    # + 2.575829^2 / 4 = 1.659 -> 32.82 -> 33; at least 5 (2 / C(10, 5) < 0.01)
+    assert seeds_for_power(1.0, 1.0, alpha=0.01, power=0.9) == 33
+    assert seeds_for_power(0.01, 1.0, alpha=0.01) == 5
     with pytest.raises(ValueError, match="delta"):
         seeds_for_power(1.0, 0.0)
 
@@ -178,6 +227,12 @@ def test_each_verdict():
     )
     assert verdict(_c(-0.2, 0.3)) == "no evidence either way: interval [-0.2, 0.3]"
     assert verdict(_c(0.0, 3.14159)) == "no evidence either way: interval [0, 3.14]"
+    # a difference, and equivalent by the margin too: both are said
+    assert verdict(_c(0.1, 0.3, 0.01, 1.0)) == "cma better than rcga, by less than 1"
+    assert verdict(_c(-0.3, -0.1, 0.01, 1.0)) == (
+        "rcga better than cma, by less than 1"
+    )
+    assert verdict(_c(0.1, 0.3, 0.2, 1.0)) == "cma better than rcga"
 
 
 def test_compare_samples_end_to_end():
@@ -212,9 +267,9 @@ def test_compare_samples_end_to_end():
 def test_pooled_spread_feeds_the_power():
     a, b = np.array([1.0, 2, 3, 4, 5]), np.array([2.0, 4, 6, 8, 10, 12, 14])
     # variances 2.5 (4 dof) and 18.667 (6 dof): pooled (10 + 112) / 10 = 12.2;
-    # 2 * 7.848879 * 12.2 / 2^2 / 0.954930 = 50.14 -> 51 seeds per arm
+    # 2 * 7.848879 * 12.2 / 2^2 / 0.954930 = 50.14, + 0.960 = 51.10 -> 52
     c = compare_samples(a, b, margin=2.0)
-    assert c.seeds_for_power == seeds_for_power(math.sqrt(12.2), 2.0) == 51
+    assert c.seeds_for_power == seeds_for_power(math.sqrt(12.2), 2.0) == 52
 
 
 def test_bad_input_names_the_culprit():
@@ -358,7 +413,7 @@ def test_without_scipy_the_rank_tests_say_what_to_install(monkeypatch):
 
     monkeypatch.setitem(sys.modules, "scipy", None)  # import scipy fails
     with pytest.raises(UserError) as e:
-        compare_samples(HW_X, HW_Y)
+        compare_samples(HW_X, HW_Y, margin=1.0)  # the power needs SciPy
     assert str(e.value) == (
         "the rank tests need SciPy: pip install -e '.[study]' in the clone"
     )

@@ -183,8 +183,8 @@ def test_the_reading_names_the_margin_or_its_absence(tmp_path):
     md, data = st.make_table(_study(tmp_path), _rows())
     assert md.endswith(
         "against the declared margin ±0.5; otherwise there is no "
-        "evidence either way. Seeds for 80 % power: per arm, to "
-        "detect a shift of the margin at the spread observed.\n"
+        "evidence either way. Seeds for 80 % power: about how many per arm, "
+        "to detect a shift of the margin at the spread observed.\n"
     )
     assert data["margin"] == 0.5 and data["currency"] == "evaluations"
     assert data["study"] == "t" and len(data["runs"]) == 9

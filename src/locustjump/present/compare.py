@@ -31,7 +31,12 @@ from locustjump import rundir
 from locustjump.errors import UserError, setting_ref
 from locustjump.evo.base import OptimizerParams
 from locustjump.present.plots import subplots
-from locustjump.present.stats import Sample, compare_samples, interval_text, p_text
+from locustjump.present.stats import (
+    Sample,
+    compare_samples,
+    interval_text,
+    p_text,
+)
 from locustjump.ranges import Range, SettingValueError
 from locustjump.rundir.config import TrainConfig
 from locustjump.sim.scene import Terrains
@@ -196,18 +201,6 @@ def load_groups(
         )  # fmt: skip
         for label, rows in found.items()
     ]
-
-
-def mann_whitney(a: np.ndarray, b: np.ndarray) -> tuple[float, float]:
-    """Two-sided Mann–Whitney U of samples ``a`` and ``b``: (U of a, p)."""
-    try:
-        from scipy.stats import mannwhitneyu
-    except ImportError:
-        raise UserError(
-            "the rank test needs SciPy: pip install -e '.[study]' in the clone"
-        ) from None
-    r = mannwhitneyu(a, b, alternative="two-sided")
-    return float(r.statistic), float(r.pvalue)
 
 
 def table(

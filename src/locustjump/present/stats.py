@@ -5,19 +5,24 @@ Fitness is maximised, so a positive shift ``a - b`` means ``a`` is better.
 ``compare_samples(a, b)`` gives, for ``a - b``:
 
 - the Hodges–Lehmann shift (the median of the ``m * n`` pairwise differences)
-  with its exact distribution-free 95 % interval (Hollander & Wolfe,
+  with its distribution-free 95 % interval (Hollander & Wolfe,
   *Nonparametric Statistical Methods*, the two-sample location problem;
-  Bauer 1972, *JASA* 67:687; the interval of R's ``wilcox.test(a, b,
-  conf.int=TRUE)``);
-- the two-sided Mann–Whitney U test (SciPy);
+  Bauer 1972, *JASA* 67:687): exact without ties up to :data:`EXACT_MAX`
+  runs a sample, conservative with ties, the interval of R's
+  ``wilcox.test(a, b, conf.int=TRUE)`` in the exact case;
+- the two-sided Mann–Whitney U test, exact up to :data:`EXACT_MAX` runs a
+  sample (given the ties: the permutation distribution of the midrank sum),
+  so that its p and the interval never disagree;
 - with a declared equivalence margin ``M`` (fitness units): the two
   one-sided tests of equivalence within ``±M`` (TOST, Schuirmann 1987, with
-  Mann–Whitney tests), and the seeds per arm that would give 80 % power to
-  detect a shift of ``M`` at the observed spread;
+  Mann–Whitney tests), and the seeds per arm that would give about 80 %
+  power to detect a shift of ``M`` at the observed spread;
 - a verdict whose words follow the interval, never the p value alone.
 
 SciPy is the optional extra ``locustjump[study]``; the exact null
-distribution of U is computed here, with NumPy.
+distributions are computed here, with NumPy (SciPy's ``mannwhitneyu`` takes
+the normal approximation above 8 runs a sample or with any tie, where its p
+could say "significant" beside an interval that covers 0, or the reverse).
 """
 
 from __future__ import annotations
@@ -172,6 +177,54 @@ def _u_cdf(m: int, n: int) -> np.ndarray:
     return cdf
 
 
+def _rank_sum_null(ranks2: np.ndarray, m: int) -> np.ndarray:
+    """P(R = r), r = 0 ... sum(ranks2), for R the sum of ``m`` of the doubled
+    midranks ``ranks2`` (integers) drawn without replacement: the exact null
+    distribution of an ``m``-sample's rank sum given the ties. Counted by
+    the subset-sum recurrence over the values, in floats (C(100, 50) < 1e30)."""
+    top = int(np.sort(ranks2)[ranks2.size - m :].sum())
+    c = np.zeros((m + 1, top + 1))
+    c[0, 0] = 1.0
+    for r in ranks2.tolist():
+        c[1:, r:] = c[1:, r:] + c[:-1, : top + 1 - r]
+    out: np.ndarray = c[m] / c[m].sum()
+    return out
+
+
+def mann_whitney(
+    a: SampleLike, b: SampleLike, alternative: str = "two-sided"
+) -> tuple[float, float]:
+    """The Mann–Whitney U of ``a`` (pairs ``a_i > b_j``, ties counting a
+    half) and its p against ``b``: ``alternative`` ``two-sided``,
+    ``greater`` (``a`` shifted up) or ``less``. Exact up to
+    :data:`EXACT_MAX` values a sample (the permutation distribution of the
+    midrank sum, which takes the ties as they are; two-sided: twice the
+    smaller tail, at most 1, as SciPy's exact test), SciPy's normal
+    approximation with its tie correction beyond."""
+    x, y = _values(a, "a"), _values(b, "b")
+    if alternative not in ("two-sided", "greater", "less"):
+        raise ValueError(
+            f"alternative must be two-sided, greater or less, got {alternative!r}"
+        )
+    m, n = x.size, y.size
+    if max(m, n) > EXACT_MAX:
+        r = _scipy_stats().mannwhitneyu(
+            x, y, alternative=alternative, method="asymptotic"
+        )
+        return float(r.statistic), float(r.pvalue)
+    # doubled midranks: the values of a tie share the mean of their ranks
+    _, group, counts = np.unique(
+        np.concatenate([x, y]), return_inverse=True, return_counts=True
+    )
+    ranks2 = (2 * (np.cumsum(counts) - counts) + counts + 1)[group]
+    r2 = int(ranks2[:m].sum())
+    u = (r2 - m * (m + 1)) / 2
+    dist = _rank_sum_null(ranks2, m)
+    low, high = float(dist[: r2 + 1].sum()), float(dist[r2:].sum())
+    p = {"greater": high, "less": low}.get(alternative, 2 * min(low, high))
+    return u, min(1.0, p)
+
+
 def hodges_lehmann(
     a: SampleLike, b: SampleLike, confidence: float = 0.95
 ) -> tuple[float, float, float]:
@@ -208,7 +261,8 @@ def hodges_lehmann(
 
 def tost(a: SampleLike, b: SampleLike, margin: float) -> float:
     """p of equivalence of ``a`` and ``b`` within ``±margin`` (fitness units):
-    the larger p of two one-sided Mann–Whitney tests, of H0 shift <= -margin
+    the larger p of two one-sided Mann–Whitney tests (:func:`mann_whitney`),
+    of H0 shift <= -margin
     (``a + margin`` against ``b``, alternative greater) and of H0 shift >=
     +margin (``a - margin`` against ``b``, alternative less). Below alpha,
     the shift lies within ``±margin`` at level alpha. ValueError unless
@@ -216,10 +270,9 @@ def tost(a: SampleLike, b: SampleLike, margin: float) -> float:
     if not (math.isfinite(margin) and margin > 0):
         raise ValueError(f"margin must be a finite number > 0, got {margin}")
     x, y = _values(a, "a"), _values(b, "b")
-    mwu = _scipy_stats().mannwhitneyu
-    above = mwu(x + margin, y, alternative="greater").pvalue
-    below = mwu(x - margin, y, alternative="less").pvalue
-    return float(max(above, below))
+    above = mann_whitney(x + margin, y, alternative="greater")[1]
+    below = mann_whitney(x - margin, y, alternative="less")[1]
+    return max(above, below)
 
 
 def pooled_spread(a: SampleLike, b: SampleLike) -> float:
@@ -237,10 +290,13 @@ def seeds_for_power(
     detect a shift ``delta`` with probability ``power``, where values spread
     with standard deviation ``spread`` (same units as ``delta``).
 
-    The normal approximation of the two-sample t test, divided by the
-    Mann–Whitney test's asymptotic relative efficiency 3/pi (normal data):
-    ``n = ceil(2 (z(1 - alpha/2) + z(power))^2 spread^2 / delta^2 / (3/pi))``,
-    at least 2. None where ``spread`` is 0 (no spread to go by).
+    An approximation: the normal approximation of the two-sample t test,
+    divided by the Mann–Whitney test's asymptotic relative efficiency 3/pi
+    (normal data), plus Guenther's small-sample term z(1 - alpha/2)^2 / 4:
+    ``n = ceil(2 (z(1 - alpha/2) + z(power))^2 spread^2 / delta^2 / (3/pi)
+    + z(1 - alpha/2)^2 / 4)``, and at least the smallest ``n`` whose exact
+    two-sided test can reach ``alpha`` at all (4 at 0.05: 3 against 3 never
+    gets below p = 0.1). None where ``spread`` is 0 (no spread to go by).
     """
     if not (math.isfinite(delta) and delta > 0):
         raise ValueError(f"delta must be a finite number > 0, got {delta}")
@@ -252,8 +308,19 @@ def seeds_for_power(
     if spread == 0:
         return None
     norm = _scipy_stats().norm
-    z: float = norm.ppf(1 - alpha / 2) + norm.ppf(power)
-    return max(2, math.ceil(2 * (z * spread / delta) ** 2 / ARE))
+    z_alpha: float = norm.ppf(1 - alpha / 2)
+    z = z_alpha + norm.ppf(power)
+    n = math.ceil(2 * (z * spread / delta) ** 2 / ARE + z_alpha**2 / 4)
+    return max(n, _smallest_n(alpha))
+
+
+def _smallest_n(alpha: float) -> int:
+    """The smallest ``n`` whose ``n`` against ``n`` exact two-sided test can
+    reach ``alpha``: its smallest p, ``2 / C(2n, n)``, is below it."""
+    n = 2
+    while 2 / math.comb(2 * n, n) >= alpha:
+        n += 1
+    return n
 
 
 def _g(x: float) -> str:
@@ -267,14 +334,20 @@ def _percent(confidence: float) -> str:
 def verdict(c: Comparison) -> str:
     """The words for ``c``, chosen by its interval (fitness is maximised):
     ``A better than B`` where the interval lies above 0, ``B better than
-    A`` below; else, with a margin, ``equivalent within ±M`` where the TOST
-    p is below :data:`ALPHA`; else ``no evidence either way`` with the
-    interval (or with why there is none)."""
+    A`` below, each followed by ``, by less than M`` where, with a margin,
+    the TOST p is below :data:`ALPHA` too (a difference, but within what
+    the margin declares negligible); else, with a margin, ``equivalent
+    within ±M`` where the TOST p is below :data:`ALPHA`; else ``no evidence
+    either way`` with the interval (or with why there is none)."""
+    within = (
+        c.p_equivalence is not None and c.p_equivalence < ALPHA and c.margin is not None
+    )
+    small = f", by less than {_g(c.margin)}" if within and c.margin else ""
     if c.low > 0:
-        return f"{c.a} better than {c.b}"
+        return f"{c.a} better than {c.b}{small}"
     if c.high < 0:
-        return f"{c.b} better than {c.a}"
-    if c.p_equivalence is not None and c.p_equivalence < ALPHA and c.margin is not None:
+        return f"{c.b} better than {c.a}{small}"
+    if within and c.margin is not None:
         return f"equivalent within ±{_g(c.margin)}"
     if not (math.isfinite(c.low) and math.isfinite(c.high)):
         return (
@@ -304,11 +377,11 @@ def compare_samples(
         )
     x, y = _values(a, names[0]), _values(b, names[1])
     shift, low, high = hodges_lehmann(x, y, confidence)
-    r = _scipy_stats().mannwhitneyu(x, y, alternative="two-sided")
+    u, p = mann_whitney(x, y)
     c = Comparison(
         a=names[0], b=names[1], n_a=x.size, n_b=y.size,
         shift=shift, low=low, high=high, confidence=confidence,
-        p=float(r.pvalue), u=float(r.statistic), margin=margin,
+        p=p, u=u, margin=margin,
         p_equivalence=None if margin is None else tost(x, y, margin),
         seeds_for_power=(
             None if margin is None else seeds_for_power(pooled_spread(x, y), margin)

@@ -338,10 +338,11 @@ def _reading(study: Study) -> str:
               "be concluded)")  # fmt: skip
     return (
         "How to read it: the shift is the Hodges–Lehmann estimate of the first "
-        "arm minus the second, with its exact 95 % interval; 'better' needs the "
-        "interval to exclude 0, 'equivalent' the two one-sided tests "
-        f"{margin}; otherwise there is no evidence either way. Seeds for 80 % "
-        "power: per arm, to detect a shift of the margin at the spread observed."
+        "arm minus the second, with its 95 % interval (exact without ties); "
+        "'better' needs the interval to exclude 0, 'equivalent' the two "
+        f"one-sided tests {margin}; otherwise there is no evidence either way. "
+        "Seeds for 80 % power: about how many per arm, to detect a shift of the "
+        "margin at the spread observed."
     )
 
 
