@@ -179,6 +179,42 @@ def test_mann_whitney_is_exact_given_the_ties(alternative):
         )
 
 
+@pytest.mark.parametrize("alternative", ["two-sided", "greater", "less"])
+def test_mann_whitney_is_exact_up_to_exact_max_and_scipys_approximation_beyond(
+    alternative,
+):
+    """At EXACT_MAX values a sample SciPy's exact test (no ties); one more,
+    SciPy's normal approximation with its tie correction (ties here)."""
+    rng = np.random.default_rng(11)
+    x, y = rng.normal(size=EXACT_MAX), rng.normal(0.3, 1, size=EXACT_MAX)
+    theirs = scipy_stats.mannwhitneyu(x, y, alternative=alternative, method="exact")
+    assert mann_whitney(x, y, alternative) == pytest.approx(
+        (theirs.statistic, theirs.pvalue), rel=1e-9
+    )
+    x, y = rng.integers(0, 30, EXACT_MAX + 1), rng.integers(2, 32, EXACT_MAX + 1)
+    theirs = scipy_stats.mannwhitneyu(
+        x, y, alternative=alternative, method="asymptotic"
+    )
+    assert mann_whitney(x, y, alternative) == (theirs.statistic, theirs.pvalue)
+    exact = mann_whitney(x[:EXACT_MAX], y[:EXACT_MAX], alternative)[1]
+    assert exact == pytest.approx(
+        _perm_p(x[:EXACT_MAX], y[:EXACT_MAX], alternative), abs=0.02
+    )
+
+
+def _perm_p(x, y, alternative, n=4000):
+    """A Monte Carlo check of an exact p too large to count (seeded)."""
+    rng = np.random.default_rng(0)
+    both = np.concatenate([x, y]).astype(float)
+    r = scipy_stats.rankdata(both)
+    obs = r[: len(x)].sum()
+    sums = np.array([rng.permutation(r)[: len(x)].sum() for _ in range(n)])
+    low, high = np.mean(sums <= obs + 1e-9), np.mean(sums >= obs - 1e-9)
+    return {"greater": high, "less": low, "two-sided": min(1, 2 * min(low, high))}[
+        alternative
+    ]
+
+
 def test_the_p_value_and_the_interval_agree():
     """9 against 12 without ties: the interval excludes 0, so p < 0.05 (SciPy's
     default, the normal approximation above 8 a sample, says 0.0507); 3
@@ -207,6 +243,14 @@ def test_seeds_for_power_by_hand():
     # + 2.575829^2 / 4 = 1.659 -> 32.82 -> 33; at least 5 (2 / C(10, 5) < 0.01)
     assert seeds_for_power(1.0, 1.0, alpha=0.01, power=0.9) == 33
     assert seeds_for_power(0.01, 1.0, alpha=0.01) == 5
+    # "reach alpha" is to get below it: 3 v 3's least p, 0.1, does not reach
+    # 0.1; 2 v 2's, 1/3, reaches 0.4
+    assert seeds_for_power(0.01, 1.0, alpha=0.1) == 4
+    assert seeds_for_power(0.01, 1.0, alpha=0.4) == 2
+    # the small-sample term is z^2 / 4 (0.960), not 2z / 4 (0.980): a base of
+    # 17.03 gives 17.99, so 18 seeds (17.03 + 0.980 = 18.01 would give 19)
+    z = 1.959963984540054 + 0.8416212335729143
+    assert seeds_for_power(math.sqrt(17.03 / (2 * z**2 / (3 / math.pi))), 1.0) == 18
     with pytest.raises(ValueError, match="delta"):
         seeds_for_power(1.0, 0.0)
 
@@ -380,7 +424,7 @@ def test_pairs_table_headers_and_cells():
 
 
 def test_each_function_names_its_bad_sample_or_parameter():
-    for f in (tost, pooled_spread):
+    for f in (tost, pooled_spread, mann_whitney):
         args = (1.0,) if f is tost else ()
         with pytest.raises(ValueError, match="sample 'a' needs"):
             f([1.0], [1.0, 2.0], *args)
@@ -404,6 +448,10 @@ def test_each_function_names_its_bad_sample_or_parameter():
                 ValueError, match=f"{name} must be in \\(0, 1\\), got {bad}"
             ):
                 seeds_for_power(1.0, 1.0, **{name: bad})
+    with pytest.raises(
+        ValueError, match="alternative must be two-sided, greater or less, got 'up'"
+    ):
+        mann_whitney(HW_X, HW_Y, "up")
 
 
 def test_without_scipy_the_rank_tests_say_what_to_install(monkeypatch):
