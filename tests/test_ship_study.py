@@ -141,16 +141,22 @@ def test_a_study_banked_on_one_machine_continues_on_another(
     of 4 generations, packed with its checkpoint; on a machine with only the
     checkout and the archive, the study continues it from generation 2 and
     trains random's seed 2. Refused, with nothing written, while a process
-    trains a run it would pack."""
+    trains a run it would pack. The rcga arm's own ``path`` stays (its seed
+    2 trains there), and so do the file's CRLF line ends."""
     monkeypatch.chdir(tmp_path)
     shutil.copytree(trained.parent / "runs", "runs")
+    Path("runs/mine").mkdir()
+    for s in (0, 1):
+        shutil.move(f"runs/rcga/seed-{s}", f"runs/mine/rcga-{s}")
     text = (
         trained.read_text()
         .replace('seeds = "0-1"', 'seeds = "0-2"')
         .replace(str(trained.parent / "runs"), "runs")
         .replace("[arms.random]\n", "[arms.random]  # the baseline\n")
+        .replace("[arms.rcga]\n", '[arms.rcga]\npath = "runs/mine/rcga-{seed}"\n')
+        .replace("\n", "\r\n")
     )
-    Path("s.toml").write_text(text)
+    Path("s.toml").write_bytes(text.encode())
     arm = load_study("s.toml").arms["rcga"]
     train(arm.config(2), arm.run_dir(2), progress=False, stop_after=2)
     stopped = (arm.run_dir(2) / rundir.METRICS).read_text()
@@ -164,18 +170,20 @@ def test_a_study_banked_on_one_machine_continues_on_another(
         holder.kill()
         holder.wait()
     err = capsys.readouterr().err
-    assert f"process {holder.pid} trains it" in err and len(err.splitlines()) == 1
+    assert f"in use by process {holder.pid}" in err and len(err.splitlines()) == 1
+    assert "stop the study's workers first" in err
     assert tree_snapshot(tmp_path) == before
     assert ship_study.main(args) == 0
     out = capsys.readouterr().out
     assert "shipped 4 runs to results; s.toml names them" in out
     assert "packed 1 unfinished runs into carry/s.tar.gz" in out
-    named = Path("s.toml").read_text()
-    assert re.sub(r"paths = .*\n", "", named) == text
+    named = Path("s.toml").read_bytes().decode()
+    assert re.sub(r"paths = .*\r\n", "", named) == text
     assert 'paths = { "0" = "results/ex-rcga-s0", "1" = "results/ex-rcga-s1" }' in named
+    assert load_study("s.toml").arms["rcga"].run_dir(2) == Path("runs/mine/rcga-2")
     with tarfile.open("carry/s.tar.gz") as tf:
         assert sorted(tf.getnames()) == sorted(
-            ["runs/rcga/seed-2"] + [f"runs/rcga/seed-2/{p.name}"
+            ["runs/mine/rcga-2"] + [f"runs/mine/rcga-2/{p.name}"
                                     for p in arm.run_dir(2).iterdir()])  # fmt: skip
     assert (arm.run_dir(2) / rundir.CHECKPOINT).is_file()
     # another machine: the checkout (study file, results/) and the archive
@@ -186,13 +194,33 @@ def test_a_study_banked_on_one_machine_continues_on_another(
     assert "4 of 6 runs done, 2 to train" in r.stdout + r.stderr
     metrics = (arm.run_dir(2) / rundir.METRICS).read_text()
     assert metrics.startswith(stopped) and len(metrics.splitlines()) == 5
-    assert not Path("runs/rcga/seed-0").exists()  # the shipped runs counted
+    assert not Path("runs/mine/rcga-0").exists()  # the shipped runs counted
     # banked again at the end: each arm's paths line replaced, not repeated
     assert ship_study.main(args) == 0
     assert "packed 0 unfinished runs" in capsys.readouterr().out
-    named = Path("s.toml").read_text()
-    assert re.sub(r"paths = .*\n", "", named) == text
+    named = Path("s.toml").read_bytes().decode()
+    assert re.sub(r"paths = .*\r\n", "", named) == text
     assert named.count("paths = ") == 2 and '"2" = "results/ex-random-s2" }' in named
+
+
+def test_a_finished_study_file_names_every_shipped_run(trained, tmp_path, capsys):
+    """--update-file on a finished study: an arm's path template, and the
+    seed a ``paths`` line named elsewhere shipped beside the others, its line
+    gone: the file names every run where it is shipped."""
+    rcga = load_study(trained).arms["rcga"]
+    moved = tmp_path / "rcga-1"
+    shutil.copytree(rcga.run_dir(1), moved)
+    f = tmp_path / "f.toml"
+    f.write_text(trained.read_text().replace(
+        "[arms.rcga]\n", f'[arms.rcga]\npaths = {{ "1" = "{moved}" }}\n'))  # fmt: skip
+    to = tmp_path / "results"
+    args = [str(f), "--to", str(to), "--prefix", "ex", "--update-file"]
+    assert ship_study.main(args) == 0
+    assert f"shipped 4 runs to {to}; {f} names them" in capsys.readouterr().out
+    assert "paths" not in f.read_text()
+    for arm, seed in load_study(f).runs():
+        assert arm.run_dir(seed) == to / f"ex-{arm.name}-s{seed}"
+        assert (arm.run_dir(seed) / rundir.BEST).is_file()
 
 
 def test_a_study_file_it_cannot_update_is_refused_before_anything_is_shipped(
