@@ -309,7 +309,7 @@ def seeds_for_power(
         return None
     norm = _scipy_stats().norm
     z_alpha: float = norm.ppf(1 - alpha / 2)
-    z = z_alpha + norm.ppf(power)
+    z: float = z_alpha + norm.ppf(power)
     n = math.ceil(2 * (z * spread / delta) ** 2 / ARE + z_alpha**2 / 4)
     return max(n, _smallest_n(alpha))
 
