@@ -222,12 +222,17 @@ def to_carry(study: Study, to: Path, stack: contextlib.ExitStack) -> list[Path]:
 
 
 def carry(runs: list[Path], archive: Path) -> None:
-    """Pack ``runs`` (every file, checkpoints included; relative names) into
+    """Pack ``runs`` (every file, checkpoints included, but the figure of its
+    learning curve, which the run draws again; relative names) into
     ``archive``, written whole or not at all."""
+
+    def keep(member: tarfile.TarInfo) -> tarfile.TarInfo | None:
+        return None if Path(member.name).name == rundir.FITNESS_PNG else member
+
     archive.parent.mkdir(parents=True, exist_ok=True)
     with rundir.atomic_path(archive) as tmp, tarfile.open(tmp, "w:gz") as tf:
         for d in runs:
-            tf.add(d)
+            tf.add(d, filter=keep)
 
 
 def main(argv: list[str] | None = None) -> int:
