@@ -31,6 +31,7 @@ import argparse
 import hashlib
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -40,6 +41,7 @@ from pathlib import Path
 from typing import TypedDict
 
 from mutation_equivalent import EQUIVALENT
+from mutation_targets import FUNCTIONS, MODULES, NOT_COVERED, PART
 
 ROOT = Path(__file__).resolve().parent.parent
 SCRATCH = ROOT / ".mutation"
@@ -47,141 +49,6 @@ DOC = ROOT / "docs" / "mutation.md"
 #: the wall time and date of the last run of every module from scratch
 LAST_RUN = SCRATCH / "last-run.txt"
 BIN = Path(sys.executable).parent
-
-#: module (under src/locustjump) -> the focused test files that state it
-MODULES: dict[str, tuple[str, ...]] = {
-    "evo/rcga.py": (
-        "tests/test_rcga.py",
-        "tests/test_rcga_behaviour.py",
-        "tests/test_optimizers.py",
-    ),
-    "rundir/metrics.py": ("tests/test_metrics_contract.py",),
-    "rundir/config.py": ("tests/test_config_contract.py", "tests/test_migrations.py"),
-    "sim/sensors.py": (
-        "tests/test_sensors_inputs.py",
-        "tests/test_sensors_controller.py",
-    ),
-    "sim/actuation.py": (
-        "tests/test_actuation_rule.py",
-        "tests/test_sensors_controller.py",
-    ),
-    "rundir/checkpoint.py": ("tests/test_checkpoint_contract.py",),
-    "evo/base.py": ("tests/test_optimizer_contract.py", "tests/test_rcga_behaviour.py"),
-    "evo/random_search.py": ("tests/test_optimizer_contract.py",),
-    "evo/cma.py": ("tests/test_cma_contract.py",),
-    "evo/__init__.py": ("tests/test_optimizer_contract.py",),
-    "tasks/kick.py": ("tests/test_kick_fitness.py", "tests/test_qd.py"),
-    "tasks/getup.py": ("tests/test_task_fitness.py",),
-    "tasks/return_legs.py": ("tests/test_task_fitness.py",),
-    "tasks/base.py": ("tests/test_task_fitness.py",),
-    "tasks/composed.py": ("tests/test_task_fitness.py",),
-    # the statistics every comparison and every claim of docs/science.md rests on
-    "present/stats.py": ("tests/test_stats.py",),
-    # the study table those claims are read from: its cells, budgets, pairs
-    "runs/study_table.py": ("tests/test_study_table.py", "tests/test_late_gain.py"),
-    # the gain in the last third and the declared flattening rule it decides
-    "runs/learning.py": ("tests/test_late_gain.py", "tests/test_study_table.py"),
-    # the height-only ablation of issue #45: its answer rests on this fitness
-    "tasks/height_only.py": ("tests/test_height_only.py",),
-    # quality diversity (issue #46): descriptors, the archive, the optimizers
-    "tasks/descriptors.py": ("tests/test_descriptors.py", "tests/test_qd.py"),
-    "evo/archive.py": ("tests/test_archive.py",),
-    "evo/qd.py": ("tests/test_qd_params.py",),
-    "evo/map_elites.py": ("tests/test_qd_params.py",),
-    "evo/cma_me.py": ("tests/test_qd_params.py",),
-    "tasks/repertoire.py": ("tests/test_repertoire.py",),
-    # the ground's height on debris, which every debris fitness subtracts
-    "sim/debris.py": ("tests/test_rubble.py",),
-    # the jumps, falls and heights every results table counts
-    "sim/analysis.py": ("tests/test_analysis.py",),
-    # a repertoire's file: written without pickle, read back only as written
-    "rundir/archive.py": ("tests/test_archive_file.py",),
-    # how long a study has left, as its processes take its runs
-    "runs/study_plan.py": ("tests/test_study_forecast.py",),
-    # which comparison a study's figure draws on which row
-    "present/study_figure.py": ("tests/test_study_figure.py",),
-}
-
-#: modules of which only some functions are mutated (mutmut's name patterns):
-#: a task's fitness, not its episode set-up or its report
-FUNCTIONS: dict[str, tuple[str, ...]] = {
-    "tasks/kick.py": (
-        "locustjump.tasks.kick.x_kick_fitness__mutmut_*",
-        "locustjump.tasks.kick.x_takeoff__mutmut_*",
-        "locustjump.tasks.kick.xǁKickRewardǁ*",
-        "locustjump.tasks.kick.xǁKickǁepisode_fitness__mutmut_*",
-        "locustjump.tasks.kick.x_kick_descriptors__mutmut_*",
-        "locustjump.tasks.kick.xǁKickǁepisode_descriptors__mutmut_*",
-    ),
-    "tasks/getup.py": (
-        "locustjump.tasks.getup.x_up_z__mutmut_*",
-        "locustjump.tasks.getup.x_getup_summary__mutmut_*",
-        "locustjump.tasks.getup.xǁUpRewardǁ*",
-        "locustjump.tasks.getup.xǁGetUpǁepisode_fitness__mutmut_*",
-    ),
-    "tasks/return_legs.py": (
-        "locustjump.tasks.return_legs.x_joint_errors__mutmut_*",
-        "locustjump.tasks.return_legs.xǁLegsRewardǁ*",
-        "locustjump.tasks.return_legs.xǁReturnLegsǁepisode_fitness__mutmut_*",
-    ),
-    "tasks/base.py": (
-        "locustjump.tasks.base.xǁBehaviourǁfitness__mutmut_*",
-        "locustjump.tasks.base.xǁBehaviourǁfitness_terms__mutmut_*",
-    ),
-    "tasks/composed.py": (
-        "locustjump.tasks.composed.x_successive_fitness__mutmut_*",
-        "locustjump.tasks.composed.x_successive_terms__mutmut_*",
-        "locustjump.tasks.composed.x_overturns__mutmut_*",
-        "locustjump.tasks.composed.xǁHeightRewardǁ*",
-    ),
-    # the forecast (the rest reads files and measures this machine)
-    "runs/study_plan.py": ("locustjump.runs.study_plan.x_forecast__mutmut_*",),
-    # what is drawn where, not how it looks (sizes, colours, fonts)
-    "present/study_figure.py": tuple(
-        f"locustjump.present.study_figure.x_{f}__mutmut_*"
-        for f in ("resolution_label", "_resolutions", "shift_rows")
-    ),
-    # the ground's height (the rest is the scene's MJCF, checked by physics)
-    "sim/debris.py": ("locustjump.sim.debris.xǁDebrisǁheights__mutmut_*",),
-    # the table from its rows, not the scoring and file work around it
-    "runs/study_table.py": tuple(
-        f"locustjump.runs.study_table.x_{f}__mutmut_*"
-        for f in (
-            "make_table",
-            "_compared",
-            "_med",
-            "_seeds_text",
-            "pairs",
-            "_budget_note",
-            "_reading",
-            "_fmt",
-            "_label",
-            "_mean",
-            "_max",
-        )
-    ),  # fmt: skip
-}
-
-#: what the table leaves out, and why (docs/mutation.md)
-NOT_COVERED = """\
-`sim/kernels.py` (with `sim/cephes.py`) is not in the table: every
-kernel is compiled by Numba (`@njit`), and mutmut 3 does not mutate a
-decorated function (it would have to wrap it in a Python trampoline,
-which Numba cannot compile). Mutating the kernels needs a tool that
-rewrites the file on disk for each mutant (cosmic-ray) and a test run
-that cannot reuse compiled code: the kernels' tests
-(`tests/test_engine.py`, `tests/test_incallback.py`: 19 tests when this was
-measured, 22 now) pass with
-`NUMBA_DISABLE_JIT=1` in 86 s, against 323 s from an empty cache
-(compiling) and 30 s warm (measured 2026-11-25 on the busy 2-core VM),
-so 1.5 to 5 minutes a mutant. No cached machine code can stand in for a
-mutant of the modules above: Numba 0.68 keys a kernel's cache on a
-SHA-256 of the kernel's own file, `kernels.py` reads no global from
-another locustjump module but `cephes.py`'s functions, whose SHA-256 it
-carries (`tests/test_incallback.py` checks both), the modules above are
-plain NumPy, and each run starts with an empty Numba cache
-(`NUMBA_CACHE_DIR`) and a fresh copy of the package under `mutants/src`.
-"""
 
 #: mutmut's exit codes: a test failed (or the mutant hung: a timeout)
 _KILLED = {1, 3, -24, 24, 152, 255, 36, -11, -9}
@@ -330,49 +197,95 @@ def summary(module: str) -> Summary | None:
     }
 
 
-#: what the functions of :data:`FUNCTIONS` are, in the table
-PART = {
-    "runs/study_table.py": "the table",
-    "runs/study_plan.py": "the forecast",
-    "present/study_figure.py": "its rows",
-    "sim/debris.py": "the ground's height",
-    "tasks/kick.py": "fitness, descriptors",
-    "tasks/composed.py": "fitness, falls and recoveries",
-}
-
-
 def label(module: str) -> str:
     if module not in FUNCTIONS:
         return module
     return f"{module} ({PART.get(module, 'fitness')})"
 
 
+def dotted(module: str) -> str:
+    """``module``'s name as mutmut's mutant names begin: ``locustjump.evo.rcga``
+    (a package's ``__init__.py`` is the package)."""
+    return "locustjump." + module.removesuffix(".py").removesuffix("/__init__").replace(
+        "/", "."
+    )
+
+
+def module_of(mutant: str) -> str | None:
+    """The module of :data:`MODULES` a mutant's name (``<module>.x_...`` or
+    ``<module>.xǁClassǁ...``) belongs to."""
+    prefix = re.split(r"\.xǁ|\.x_", mutant, maxsplit=1)[0]
+    return next((m for m in MODULES if dotted(m) == prefix), None)
+
+
+class Kept(TypedDict):
+    """A module's row of the page as last written: its counts (mutants,
+    killed, equivalent, survived), its minutes and its lines of mutants."""
+
+    counts: list[int]
+    minutes: float
+    details: list[str]
+
+
+def previous_doc() -> tuple[dict[str, Kept], str]:
+    """The rows of ``docs/mutation.md`` as it stands, by module, and its line
+    on the last run of every module: what a module not run on this machine
+    (whose scratch results are not here) keeps."""
+    if not DOC.is_file():
+        return {}, ""
+    text = DOC.read_text()
+    by_label = {label(m): m for m in MODULES}
+    kept: dict[str, Kept] = {}
+    for row in re.findall(r"^\| (.+?) \| (\d+) \| (\d+) \| (\d+) \| (\d+) \| "
+                          r"[\d.]+ % \| ([\d.]+) \|$", text, re.M):  # fmt: skip
+        if row[0] in by_label:
+            kept[by_label[row[0]]] = {
+                "counts": [int(c) for c in row[1:5]],
+                "minutes": float(row[5]),
+                "details": [],
+            }
+    for line in text.splitlines():
+        found = re.match(r"^- (?:equivalent|\*\*survived\*\*) `([^`]+)`", line)
+        module = module_of(found.group(1)) if found else None
+        if module in kept:
+            kept[module]["details"].append(line)
+    last = re.search(r"^Every module from scratch .*$", text, re.M)
+    return kept, last.group(0) + "\n" if last else ""
+
+
 def write_doc(results: dict[str, Summary | None]) -> None:
+    """``docs/mutation.md`` from ``results``; a module without results here
+    keeps its row and its mutants from the page as it stands."""
+    kept, last_line = previous_doc()
     rows, details = [], []
     total = {"mutants": 0, "killed": 0, "eq": 0, "sv": 0, "wall": 0.0}
     for module, s in results.items():
-        if s is None:
+        if s is None and module not in kept:
             rows.append(f"| {label(module)} | not run | | | | | |")
             continue
-        eq, sv = len(s["equivalent"]), len(s["survived"])
-        rate = s["killed"] / max(s["mutants"] - eq, 1)
+        if s is None:
+            mutants, killed, eq, sv = kept[module]["counts"]
+            wall = kept[module]["minutes"] * 60
+            details.extend(kept[module]["details"])
+        else:
+            mutants, killed, wall = s["mutants"], s["killed"], s["wall"]
+            eq, sv = len(s["equivalent"]), len(s["survived"])
+            for name, line, why in s["equivalent"]:
+                details.append(f"- equivalent `{name}`: `{line}` — {why}")
+            for name, line in s["survived"]:
+                details.append(f"- **survived** `{name}`: `{line}`")
+        rate = killed / max(mutants - eq, 1)
         rows.append(
-            f"| {label(module)} | {s['mutants']} | {s['killed']} | {eq} | {sv} | "
-            f"{100 * rate:.1f} % | {s['wall'] / 60:.1f} |"
+            f"| {label(module)} | {mutants} | {killed} | {eq} | {sv} | "
+            f"{100 * rate:.1f} % | {wall / 60:.1f} |"
         )
-        for k, v in zip(
-            total, (s["mutants"], s["killed"], eq, sv, s["wall"]), strict=True
-        ):
+        for k, v in zip(total, (mutants, killed, eq, sv, wall), strict=True):
             total[k] += v
-        for name, line, why in s["equivalent"]:
-            details.append(f"- equivalent `{name}`: `{line}` — {why}")
-        for name, line in s["survived"]:
-            details.append(f"- **survived** `{name}`: `{line}`")
     last_run = (
         f"Every module from scratch (`python scripts/mutation.py`): "
         f"{LAST_RUN.read_text().strip()}.\n"
         if LAST_RUN.is_file()
-        else ""
+        else last_line
     )
     rate = total["killed"] / max(total["mutants"] - total["eq"], 1)
     rows.append(
@@ -388,9 +301,9 @@ def write_doc(results: dict[str, Summary | None]) -> None:
         "Rate: killed / (mutants - equivalent). Minutes: mutmut's wall time\n"
         "for the module, one child process, on the project's 2-core VM shared\n"
         "with other work (so slower than on an idle one); a rerun of the\n"
-        "survivors (`--survivors`, after tests were added) adds its own.\n"
-        + last_run
-        + "\n"
+        "survivors (`--survivors`, after tests were added) adds its own. A\n"
+        "module not run on the machine that last wrote this page keeps its row\n"
+        "and its mutants below from the page before.\n" + last_run + "\n"
         "| module | mutants | killed | equivalent | survived | rate | minutes |\n"
         "| --- | ---: | ---: | ---: | ---: | ---: | ---: |\n"
         + "\n".join(rows)

@@ -258,26 +258,26 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
         "without out the result is a new array either way: step is itself "
         "a fresh array (one allocation more, the same numbers)",
     ),
-    "locustjump.present.stats.x__rank_sum_null__mutmut_14": (
+    "locustjump.present.ranktests.x__rank_sum_null__mutmut_14": (
         "c[0, 0] = 2.0",
         "the counts are divided by their sum at the end: a start of 2 doubles "
         "every count, not a probability",
     ),
-    "locustjump.present.stats.x__rank_sum_null__mutmut_17": (
+    "locustjump.present.ranktests.x__rank_sum_null__mutmut_17": (
         "c[1:, r:] - c[:-1",
         "subtracting makes row k of the counts (-1)^k times the true counts; "
         "row m, the one read, is divided by its sum, which cancels the sign",
     ),
-    "locustjump.present.stats.x__rank_sum_null__mutmut_8": (
+    "locustjump.present.ranktests.x__rank_sum_null__mutmut_8": (
         "np.zeros((m + 2, top + 1))",
         "one row more (subsets of m + 1 values), never read: row m is the same",
     ),
-    "locustjump.present.stats.x_mann_whitney__mutmut_38": (
+    "locustjump.present.ranktests.x_mann_whitney__mutmut_38": (
         "alternative=alternative, )",
         "SciPy's default method (auto) takes the normal approximation above 8 "
         "values a sample, and this branch has more than 50",
     ),
-    "locustjump.present.stats.x_mann_whitney__mutmut_40": (
+    "locustjump.present.ranktests.x_mann_whitney__mutmut_40": (
         'method="ASYMPTOTIC"',
         "SciPy's mannwhitneyu lower-cases its method (checked: 'ASYMPTOTIC' "
         "gives the p of 'asymptotic')",
@@ -290,7 +290,7 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
         'verdict="XXXX",',
         _PLACEHOLDER,
     ),
-    "locustjump.present.stats.x_hodges_lehmann__mutmut_38": (
+    "locustjump.present.ranktests.x_hodges_lehmann__mutmut_38": (
         "cdf <= (1 - confidence) / 2 * (1 - 1e-9)",
         "differs only where a cumulative probability of U equals alpha/2 x "
         "(1 - 1e-9) to the last bit, a number no sum of U's probabilities "

@@ -25,7 +25,7 @@ import numpy as np
 
 from locustjump import rundir
 from locustjump.present.compare import _key
-from locustjump.present.stats import mann_whitney
+from locustjump.present.ranktests import mann_whitney
 from locustjump.rundir.config import TrainConfig
 
 SUBSTEPS = (3, 6, 12, 24)

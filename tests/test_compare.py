@@ -10,7 +10,7 @@ from helpers import exit_status
 from locustjump import rundir
 from locustjump.evo import params_class
 from locustjump.present.compare import Group, load_groups, table
-from locustjump.present.stats import mann_whitney
+from locustjump.present.ranktests import mann_whitney
 from locustjump.rundir.config import TrainConfig
 from locustjump.runs.trainer import train
 

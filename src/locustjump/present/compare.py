@@ -31,12 +31,8 @@ from locustjump import rundir
 from locustjump.errors import UserError, setting_ref
 from locustjump.evo.base import OptimizerParams
 from locustjump.present.plots import subplots
-from locustjump.present.stats import (
-    Sample,
-    compare_samples,
-    interval_text,
-    p_text,
-)
+from locustjump.present.ranktests import Sample
+from locustjump.present.stats import compare_samples, interval_text, p_text
 from locustjump.ranges import Range, SettingValueError
 from locustjump.rundir.config import TrainConfig
 from locustjump.sim.scene import Terrains

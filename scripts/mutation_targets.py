@@ -1,0 +1,153 @@
+"""What ``scripts/mutation.py`` mutates: each module, the focused test files
+that state it, the functions mutated where not all of a module is, and what
+the table of ``docs/mutation.md`` leaves out."""
+
+from __future__ import annotations
+
+#: module (under src/locustjump) -> the focused test files that state it
+MODULES: dict[str, tuple[str, ...]] = {
+    "evo/rcga.py": (
+        "tests/test_rcga.py",
+        "tests/test_rcga_behaviour.py",
+        "tests/test_optimizers.py",
+    ),
+    "rundir/metrics.py": ("tests/test_metrics_contract.py",),
+    "rundir/config.py": ("tests/test_config_contract.py", "tests/test_migrations.py"),
+    "sim/sensors.py": (
+        "tests/test_sensors_inputs.py",
+        "tests/test_sensors_controller.py",
+    ),
+    "sim/actuation.py": (
+        "tests/test_actuation_rule.py",
+        "tests/test_sensors_controller.py",
+    ),
+    "rundir/checkpoint.py": ("tests/test_checkpoint_contract.py",),
+    "evo/base.py": ("tests/test_optimizer_contract.py", "tests/test_rcga_behaviour.py"),
+    "evo/random_search.py": ("tests/test_optimizer_contract.py",),
+    "evo/cma.py": ("tests/test_cma_contract.py",),
+    "evo/__init__.py": ("tests/test_optimizer_contract.py",),
+    "tasks/kick.py": ("tests/test_kick_fitness.py", "tests/test_qd.py"),
+    "tasks/getup.py": ("tests/test_task_fitness.py",),
+    "tasks/return_legs.py": ("tests/test_task_fitness.py",),
+    "tasks/base.py": ("tests/test_task_fitness.py",),
+    "tasks/composed.py": ("tests/test_task_fitness.py",),
+    # the statistics every comparison and every claim of docs/science.md rests on:
+    # the exact rank tests, and the comparison, power and verdict made of them
+    "present/ranktests.py": ("tests/test_ranktests.py", "tests/test_stats.py"),
+    "present/stats.py": ("tests/test_stats.py",),
+    # the study table those claims are read from: its cells, budgets, pairs
+    "runs/study_table.py": ("tests/test_study_table.py", "tests/test_late_gain.py"),
+    # the gain in the last third and the declared flattening rule it decides
+    "runs/learning.py": ("tests/test_late_gain.py", "tests/test_study_table.py"),
+    # the height-only ablation of issue #45: its answer rests on this fitness
+    "tasks/height_only.py": ("tests/test_height_only.py",),
+    # quality diversity (issue #46): descriptors, the archive, the optimizers
+    "tasks/descriptors.py": ("tests/test_descriptors.py", "tests/test_qd.py"),
+    "evo/archive.py": ("tests/test_archive.py",),
+    "evo/qd.py": ("tests/test_qd_params.py",),
+    "evo/map_elites.py": ("tests/test_qd_params.py",),
+    "evo/cma_me.py": ("tests/test_qd_params.py",),
+    "tasks/repertoire.py": ("tests/test_repertoire.py",),
+    # the ground's height on debris, which every debris fitness subtracts
+    "sim/debris.py": ("tests/test_rubble.py",),
+    # the jumps, falls and heights every results table counts
+    "sim/analysis.py": ("tests/test_analysis.py",),
+    # a repertoire's file: written without pickle, read back only as written
+    "rundir/archive.py": ("tests/test_archive_file.py",),
+    # how long a study has left, as its processes take its runs
+    "runs/study_plan.py": ("tests/test_study_forecast.py",),
+    # which comparison a study's figure draws on which row
+    "present/study_figure.py": ("tests/test_study_figure.py",),
+}
+
+#: modules of which only some functions are mutated (mutmut's name patterns):
+#: a task's fitness, not its episode set-up or its report
+FUNCTIONS: dict[str, tuple[str, ...]] = {
+    "tasks/kick.py": (
+        "locustjump.tasks.kick.x_kick_fitness__mutmut_*",
+        "locustjump.tasks.kick.x_takeoff__mutmut_*",
+        "locustjump.tasks.kick.xǁKickRewardǁ*",
+        "locustjump.tasks.kick.xǁKickǁepisode_fitness__mutmut_*",
+        "locustjump.tasks.kick.x_kick_descriptors__mutmut_*",
+        "locustjump.tasks.kick.xǁKickǁepisode_descriptors__mutmut_*",
+    ),
+    "tasks/getup.py": (
+        "locustjump.tasks.getup.x_up_z__mutmut_*",
+        "locustjump.tasks.getup.x_getup_summary__mutmut_*",
+        "locustjump.tasks.getup.xǁUpRewardǁ*",
+        "locustjump.tasks.getup.xǁGetUpǁepisode_fitness__mutmut_*",
+    ),
+    "tasks/return_legs.py": (
+        "locustjump.tasks.return_legs.x_joint_errors__mutmut_*",
+        "locustjump.tasks.return_legs.xǁLegsRewardǁ*",
+        "locustjump.tasks.return_legs.xǁReturnLegsǁepisode_fitness__mutmut_*",
+    ),
+    "tasks/base.py": (
+        "locustjump.tasks.base.xǁBehaviourǁfitness__mutmut_*",
+        "locustjump.tasks.base.xǁBehaviourǁfitness_terms__mutmut_*",
+    ),
+    "tasks/composed.py": (
+        "locustjump.tasks.composed.x_successive_fitness__mutmut_*",
+        "locustjump.tasks.composed.x_successive_terms__mutmut_*",
+        "locustjump.tasks.composed.x_overturns__mutmut_*",
+        "locustjump.tasks.composed.xǁHeightRewardǁ*",
+    ),
+    # the forecast (the rest reads files and measures this machine)
+    "runs/study_plan.py": ("locustjump.runs.study_plan.x_forecast__mutmut_*",),
+    # what is drawn where, not how it looks (sizes, colours, fonts)
+    "present/study_figure.py": tuple(
+        f"locustjump.present.study_figure.x_{f}__mutmut_*"
+        for f in ("resolution_label", "_resolutions", "shift_rows")
+    ),
+    # the ground's height (the rest is the scene's MJCF, checked by physics)
+    "sim/debris.py": ("locustjump.sim.debris.xǁDebrisǁheights__mutmut_*",),
+    # the table from its rows, not the scoring and file work around it
+    "runs/study_table.py": tuple(
+        f"locustjump.runs.study_table.x_{f}__mutmut_*"
+        for f in (
+            "make_table",
+            "_compared",
+            "_med",
+            "_seeds_text",
+            "pairs",
+            "_budget_note",
+            "_reading",
+            "_fmt",
+            "_label",
+            "_mean",
+            "_max",
+        )
+    ),  # fmt: skip
+}
+
+#: what the table leaves out, and why (docs/mutation.md)
+NOT_COVERED = """\
+`sim/kernels.py` (with `sim/cephes.py`) is not in the table: every
+kernel is compiled by Numba (`@njit`), and mutmut 3 does not mutate a
+decorated function (it would have to wrap it in a Python trampoline,
+which Numba cannot compile). Mutating the kernels needs a tool that
+rewrites the file on disk for each mutant (cosmic-ray) and a test run
+that cannot reuse compiled code: the kernels' tests
+(`tests/test_engine.py`, `tests/test_incallback.py`: 19 tests when this was
+measured, 22 now) pass with
+`NUMBA_DISABLE_JIT=1` in 86 s, against 323 s from an empty cache
+(compiling) and 30 s warm (measured 2026-11-25 on the busy 2-core VM),
+so 1.5 to 5 minutes a mutant. No cached machine code can stand in for a
+mutant of the modules above: Numba 0.68 keys a kernel's cache on a
+SHA-256 of the kernel's own file, `kernels.py` reads no global from
+another locustjump module but `cephes.py`'s functions, whose SHA-256 it
+carries (`tests/test_incallback.py` checks both), the modules above are
+plain NumPy, and each run starts with an empty Numba cache
+(`NUMBA_CACHE_DIR`) and a fresh copy of the package under `mutants/src`.
+"""
+
+
+#: what the functions of :data:`FUNCTIONS` are, in the table
+PART = {
+    "runs/study_table.py": "the table",
+    "runs/study_plan.py": "the forecast",
+    "present/study_figure.py": "its rows",
+    "sim/debris.py": "the ground's height",
+    "tasks/kick.py": "fitness, descriptors",
+    "tasks/composed.py": "fitness, falls and recoveries",
+}
