@@ -3,11 +3,14 @@
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import sys
+from pathlib import Path
 
 from locustjump import rundir
-from locustjump.cli.argtypes import _seeds
+from locustjump.cli.argtypes import _seeds, out_path
 from locustjump.cli.options import add_backend
+from locustjump.errors import UserError
 from locustjump.runs.study import run_study
 from locustjump.runs.study_plan import dry_run, status
 from locustjump.runs.study_table import FIGURE, study_table
@@ -46,8 +49,16 @@ def add_study_command(sub: argparse._SubParsersAction[argparse.ArgumentParser]) 
         "--table",
         action="store_true",
         help="score every run's best genome as the study's [evaluation] says and "
-        "write OUT/table.md, table.json, learning.png and scores.png (runs "
-        "must be finished)",
+        "write OUT/table.md, table.json, learning.png and scores.png into the "
+        "study's out or --out (the runs must be finished)",
+    )
+    p.add_argument(
+        "--out",
+        type=out_path,
+        metavar="DIR",
+        help="with --table: write the table, its figures and its score cache "
+        "into DIR instead of the study's out (e.g. a look at the seeds done "
+        "so far, with --seeds)",
     )
     p.add_argument(
         "--seeds",
@@ -66,7 +77,14 @@ def add_study_command(sub: argparse._SubParsersAction[argparse.ArgumentParser]) 
 
 def cmd_study(args: argparse.Namespace) -> int:
     seeds = None if args.seeds is None else ",".join(map(str, args.seeds))
+    if args.out is not None and not args.table:
+        raise UserError("--out is where --table writes; it needs --table")
     study = load_study(args.file, seeds)
+    if args.out is not None:
+        out = Path(args.out)
+        if out.exists() and not out.is_dir():
+            raise UserError(f"--out {out}: exists and is not a directory")
+        study = dataclasses.replace(study, out=out)
     if args.status:
         print(status(study))
         return 0
