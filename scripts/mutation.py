@@ -1,9 +1,10 @@
 """Mutation testing of the core modules (issue #48), with mutmut 3.
 
-For each module below, mutmut changes one token at a time (a comparison, an
-operator, a constant, a string, an argument) and runs the tests that reach
-the mutated function (mutmut's per-function selection, measured once per
-module by a "stats" run) from the module's *focused* test files only, never
+For each module of :data:`MODULES` (``scripts/mutation_targets.py``),
+mutmut changes one token at a time (a comparison, an operator, a constant,
+a string, an argument) and runs the tests that reach the mutated function
+(mutmut's per-function selection, measured once per module by a "stats"
+run) from the module's *focused* test files only, never
 the whole suite. A mutant no test notices is a behaviour no test states.
 
 Each module runs in its own scratch directory ``.mutation/<module>/``
@@ -13,7 +14,9 @@ Numba's cache goes to a directory of that scratch run (``NUMBA_CACHE_DIR``),
 so compiled code cached from the checkout is never run in place of a mutant.
 
 ``docs/mutation.md`` is written from the results of every module that has
-run: mutants, killed (a test failed; timeouts count), equivalent (listed in
+run on this machine (its scratch directory holds them); a module that has
+not keeps its row and its mutants from the page as it stands. Per module:
+mutants, killed (a test failed; timeouts count), equivalent (listed in
 :data:`EQUIVALENT` of ``scripts/mutation_equivalent.py``, with the reason),
 survived (no test failed, or no test reached it) and the kill rate
 ``killed / (mutants - equivalent)``.
@@ -237,7 +240,7 @@ def previous_doc() -> tuple[dict[str, Kept], str]:
     by_label = {label(m): m for m in MODULES}
     kept: dict[str, Kept] = {}
     for row in re.findall(r"^\| (.+?) \| (\d+) \| (\d+) \| (\d+) \| (\d+) \| "
-                          r"[\d.]+ % \| ([\d.]+) \|$", text, re.M):  # fmt: skip
+                          r"[\d.]+ % \| ([\d.]+|nan) \|$", text, re.M):  # fmt: skip
         if row[0] in by_label:
             kept[by_label[row[0]]] = {
                 "counts": [int(c) for c in row[1:5]],
@@ -279,7 +282,9 @@ def write_doc(results: dict[str, Summary | None]) -> None:
             f"| {label(module)} | {mutants} | {killed} | {eq} | {sv} | "
             f"{100 * rate:.1f} % | {wall / 60:.1f} |"
         )
-        for k, v in zip(total, (mutants, killed, eq, sv, wall), strict=True):
+        # the total of the minutes shown (a kept row holds no more than those)
+        shown = round(wall / 60, 1) * 60
+        for k, v in zip(total, (mutants, killed, eq, sv, shown), strict=True):
             total[k] += v
     last_run = (
         f"Every module from scratch (`python scripts/mutation.py`): "

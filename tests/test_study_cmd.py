@@ -284,18 +284,29 @@ def test_a_table_of_one_seed_compares_nothing_and_says_why(finished, tmp_path):
     assert all(rows == [] for rows in pairs.values())
     assert (look / "scores.png").is_file() and (look / "learning.png").is_file()
     assert tree_snapshot(study.out) == before  # the study's own table untouched
+    assert "scoring [" not in t.stderr  # its scores read from the study's cache
 
 
-def test_out_is_for_the_table_and_a_directory(finished, tmp_path):
+def test_out_is_for_the_table_and_an_empty_directory(finished, tmp_path):
     path, _, _ = finished
-    r = run_cli("study", str(path), "--status", "--out", str(tmp_path / "t"))
-    assert r.returncode == 2, r.stderr
-    assert r.stderr.strip().endswith("--out is where --table writes; it needs --table")
-    a_file = tmp_path / "notes.txt"
-    a_file.write_text("mine")
-    r = run_cli("study", str(path), "--table", "--out", str(a_file))
+    for argv, message in (
+        (("--status", "--out", str(tmp_path / "t")),
+         "--out is where --table writes; it needs --table"),
+        (("--table", "--force"), "--force lets --table --out write into a full"),
+    ):  # fmt: skip
+        r = run_cli("study", str(path), *argv)
+        assert r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1
+        assert message in r.stderr, r.stderr
+    mine = tmp_path / "notes.txt"
+    mine.write_text("mine")
+    r = run_cli("study", str(path), "--table", "--out", str(mine))
     assert r.returncode == 2 and "exists and is not a directory" in r.stderr
-    assert a_file.read_text() == "mine" and sorted(tmp_path.iterdir()) == [a_file]
+    r = run_cli("study", str(path), "--table", "--out", str(tmp_path))
+    assert r.returncode == 2 and "is not empty (use --force" in r.stderr
+    assert mine.read_text() == "mine" and sorted(tmp_path.iterdir()) == [mine]
+    r = run_cli("study", str(path), "--table", "--out", str(tmp_path), "--force")
+    assert r.returncode == 0, r.stderr
+    assert mine.read_text() == "mine" and (tmp_path / TABLE_MD).is_file()
 
 
 def test_moved_runs_keep_their_scores(finished, tmp_path, monkeypatch):

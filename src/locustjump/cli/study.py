@@ -3,9 +3,7 @@
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import sys
-from pathlib import Path
 
 from locustjump import rundir
 from locustjump.cli.argtypes import _seeds, out_path
@@ -58,7 +56,13 @@ def add_study_command(sub: argparse._SubParsersAction[argparse.ArgumentParser]) 
         metavar="DIR",
         help="with --table: write the table, its figures and its score cache "
         "into DIR instead of the study's out (e.g. a look at the seeds done "
-        "so far, with --seeds)",
+        "so far, with --seeds); refused if DIR holds anything, unless --force",
+    )
+    p.add_argument(
+        "--force",
+        action="store_true",
+        help="with --out: write into DIR although it holds files (a table "
+        "there before is replaced)",
     )
     p.add_argument(
         "--seeds",
@@ -79,12 +83,13 @@ def cmd_study(args: argparse.Namespace) -> int:
     seeds = None if args.seeds is None else ",".join(map(str, args.seeds))
     if args.out is not None and not args.table:
         raise UserError("--out is where --table writes; it needs --table")
+    if args.force and args.out is None:
+        raise UserError("--force lets --table --out write into a full directory; "
+                        "it needs --out")  # fmt: skip
     study = load_study(args.file, seeds)
+    out = None
     if args.out is not None:
-        out = Path(args.out)
-        if out.exists() and not out.is_dir():
-            raise UserError(f"--out {out}: exists and is not a directory")
-        study = dataclasses.replace(study, out=out)
+        out = rundir.check_out_dir(args.out, force=args.force)
     if args.status:
         print(status(study))
         return 0
@@ -99,9 +104,9 @@ def cmd_study(args: argparse.Namespace) -> int:
         print(line, file=sys.stderr)
 
     if args.table:
-        md, js = study_table(study, backend, log=log)
+        md, js = study_table(study, backend, log=log, out=out)
         print(rundir.read_text(md), end="")
-        print(f"wrote {md}, {js}, {study.out / FIGURE}")
+        print(f"wrote {md}, {js}, {md.parent / FIGURE}")
         return 0
     final = run_study(study, backend=backend, progress=not args.quiet, log=log)
     done = sum(st.finished for st in final)

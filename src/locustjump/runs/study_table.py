@@ -106,13 +106,16 @@ def scores(
     study: Study,
     backend: Backend | None = None,
     log: Callable[[str], None] | None = None,
+    out: Path | None = None,
 ) -> dict[tuple[str, int, int | None], list[dict[str, Any]]]:
     """Per (arm, seed, substeps) of every scored run, its episodes' scores (one
-    dict per terrain), from ``OUT/scores.json`` where it holds them."""
-    cache_path = study.out / SCORES
+    dict per terrain), from ``out/scores.json`` (default: the study's
+    ``out``) or the study's own cache where they hold them."""
+    cache_path = (out or study.out) / SCORES
     cache: dict[str, Any] = {}
-    if cache_path.is_file():
-        cache = rundir.read_json(cache_path, MAX_SCORES_BYTES)
+    for path in dict.fromkeys((study.out / SCORES, cache_path)):
+        if path.is_file():
+            cache.update(rundir.read_json(path, MAX_SCORES_BYTES))
     out = {}
     todo = [(a, s) for a, s in study.runs() if a.score]
     for k, (arm, seed) in enumerate(todo, 1):
@@ -126,7 +129,7 @@ def scores(
                 eps = score_run(path, terrain_seeds=study.evaluation.terrain_seeds,
                                 substeps=sub, backend=backend)  # fmt: skip
                 cache[key] = [asdict(e) for e in eps]
-                study.out.mkdir(parents=True, exist_ok=True)
+                cache_path.parent.mkdir(parents=True, exist_ok=True)
                 rundir.write_json(cache_path, cache)
             out[arm.name, seed, sub] = cache[key]
     return out
@@ -351,11 +354,13 @@ def study_table(
     backend: Backend | None = None,
     log: Callable[[str], None] | None = None,
     figure: bool = True,
+    out: Path | None = None,
 ) -> tuple[Path, Path]:
     """Score every scored run of ``study`` (every run must be finished), write
     ``OUT/table.md``, ``OUT/table.json``, the learning curves
     ``OUT/learning.png`` and the scores and shifts ``OUT/scores.png``
-    (:mod:`~locustjump.present.study_figure`); return the two table paths."""
+    (:mod:`~locustjump.present.study_figure`), OUT being ``out`` or else the
+    study's ``out``; return the two table paths."""
     missing = [st for st in states(study) if not st.finished]
     if missing:
         st = missing[0]
@@ -366,15 +371,16 @@ def study_table(
         )
     for arm, seed in study.runs():
         check_run(study, arm, seed)
-    rows = run_rows(study, scores(study, backend, log))
+    where = out or study.out
+    rows = run_rows(study, scores(study, backend, log, where))
     md, data = make_table(study, rows)
-    study.out.mkdir(parents=True, exist_ok=True)
-    rundir.atomic_write_text(study.out / TABLE_MD, md)
-    rundir.write_json(study.out / TABLE_JSON, data)
+    where.mkdir(parents=True, exist_ok=True)
+    rundir.atomic_write_text(where / TABLE_MD, md)
+    rundir.write_json(where / TABLE_JSON, data)
     if figure:
-        learning_figure(study, study.out / FIGURE)
-        scores_figure(data, study.out / SCORES_PNG)
-    return study.out / TABLE_MD, study.out / TABLE_JSON
+        learning_figure(study, where / FIGURE)
+        scores_figure(data, where / SCORES_PNG)
+    return where / TABLE_MD, where / TABLE_JSON
 
 
 def learning_figure(study: Study, path: Path) -> Path:
