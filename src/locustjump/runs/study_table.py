@@ -113,10 +113,10 @@ def scores(
     ``out``) or the study's own cache where they hold them."""
     cache_path = (out or study.out) / SCORES
     cache: dict[str, Any] = {}
-    for path in dict.fromkeys((study.out / SCORES, cache_path)):
-        if path.is_file():
-            cache.update(rundir.read_json(path, MAX_SCORES_BYTES))
-    out = {}
+    for kept in dict.fromkeys((study.out / SCORES, cache_path)):
+        if kept.is_file():
+            cache.update(rundir.read_json(kept, MAX_SCORES_BYTES))
+    found = {}
     todo = [(a, s) for a, s in study.runs() if a.score]
     for k, (arm, seed) in enumerate(todo, 1):
         path = arm.run_dir(seed)
@@ -131,8 +131,8 @@ def scores(
                 cache[key] = [asdict(e) for e in eps]
                 cache_path.parent.mkdir(parents=True, exist_ok=True)
                 rundir.write_json(cache_path, cache)
-            out[arm.name, seed, sub] = cache[key]
-    return out
+            found[arm.name, seed, sub] = cache[key]
+    return found
 
 
 def _mean(eps: list[dict[str, Any]], key: str) -> float | None:
