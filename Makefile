@@ -8,7 +8,7 @@ PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 
-.PHONY: demo test typecheck docs lint bench mutation clean
+.PHONY: demo test typecheck docs bench mutation clean
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
