@@ -17,6 +17,11 @@ from locustjump import rundir
 #: tiny_reproduction)
 TINY_GENERATIONS = {"kick": 1, "getup": 1, "return-legs": 1, "composed": 1}
 
+#: Hollander & Wolfe (1973, p. 69): permeability of the human chorioamnion at
+#: term (x) and at 12-26 weeks (y), the example of R's ?wilcox.test
+HW_X = [0.80, 0.83, 1.89, 1.04, 1.45, 1.38, 1.91, 1.64, 0.73, 1.46]
+HW_Y = [1.15, 0.88, 0.90, 0.74, 1.21]
+
 EXACT = ("generation", "best", "mean", "std", "evaluations", "control_steps")
 
 

@@ -7,6 +7,7 @@ import math
 import numpy as np
 import pytest
 
+from helpers import HW_X, HW_Y
 from locustjump.present.ranktests import (
     Sample,
     hodges_lehmann,
@@ -25,12 +26,6 @@ from locustjump.present.stats import (
 )
 
 scipy_stats = pytest.importorskip("scipy.stats")
-
-
-# Hollander & Wolfe (1973, p. 69): permeability of the human chorioamnion at
-# term (x) and at 12-26 weeks (y), the example of R's ?wilcox.test
-HW_X = [0.80, 0.83, 1.89, 1.04, 1.45, 1.38, 1.91, 1.64, 0.73, 1.46]
-HW_Y = [1.15, 0.88, 0.90, 0.74, 1.21]
 
 
 def test_hodges_lehmann_on_hollander_and_wolfe():
