@@ -58,6 +58,8 @@ MODULES: dict[str, tuple[str, ...]] = {
     "runs/study_plan.py": ("tests/test_study_forecast.py",),
     # which comparison a study's figure draws on which row
     "present/study_figure.py": ("tests/test_study_figure.py",),
+    # every read of a file a user names: regular files only, bounded, no pickle
+    "rundir/reads.py": ("tests/test_reads.py",),
 }
 
 #: modules of which only some functions are mutated (mutmut's name patterns):
