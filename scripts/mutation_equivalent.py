@@ -134,6 +134,28 @@ def _cast(
 
 
 EQUIVALENT: dict[str, tuple[str, str]] = {
+    "locustjump.rundir.reads.x__article__mutmut_6": (
+        '"XXaeiou.XX"',
+        "the first letter is lower-cased before the test, and the added X are "
+        "upper case: no lower-cased letter is one of them",
+    ),
+    "locustjump.rundir.reads.x_nesting__mutmut_19": (
+        "if end <= 0 else end",
+        "end is where the comment's line ends, found from the '#' at i >= 0, "
+        "so it is -1 (none) or at least 1: never 0",
+    ),
+    "locustjump.rundir.reads.x_nesting__mutmut_20": (
+        "if end < 1 else end",
+        "end is where the comment's line ends, found from the '#' at i >= 0, "
+        "so it is -1 (none) or at least 1: never 0",
+    ),
+    "locustjump.rundir.reads.x_read_toml__mutmut_12": (
+        "nesting(text) >= MAX_NESTING",
+        "a TOML text whose brackets nest 32 deep parses to a value at least 33 "
+        "deep (the document's own table is a level), which the check after "
+        "parsing refuses with the same words: only whether the parser runs "
+        "differs",
+    ),
     "locustjump.evo.rcga.x_sbx__mutmut_10": (
         "+ u < 0.5,",
         "at u = 0.5 both branches give beta = 1",

@@ -59,7 +59,7 @@ MODULES: dict[str, tuple[str, ...]] = {
     # which comparison a study's figure draws on which row
     "present/study_figure.py": ("tests/test_study_figure.py",),
     # every read of a file a user names: regular files only, bounded, no pickle
-    "rundir/reads.py": ("tests/test_reads.py",),
+    "rundir/reads.py": ("tests/test_reads_units.py", "tests/test_reads.py"),
 }
 
 #: modules of which only some functions are mutated (mutmut's name patterns):

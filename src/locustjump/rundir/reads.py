@@ -266,7 +266,7 @@ def _members(
     return members
 
 
-def _declared(path: Path, zf: zipfile.ZipFile, name: str, info: zipfile.ZipInfo) -> int:
+def _declared(path: Path, zf: zipfile.ZipFile, info: zipfile.ZipInfo) -> int:
     """The bytes of data member ``info``'s header declares (nothing inflated)."""
     with zf.open(info) as f:
         shape, dtype = _npy_header(f)
@@ -296,7 +296,7 @@ def _read_npz(
         missing = [k for k in keys if k not in members]
         if missing:
             raise UserError(f"{path}: missing {', '.join(missing)}")
-        total = sum(_declared(path, zf, n, i) for n, i in members.items())
+        total = sum(_declared(path, zf, i) for i in members.values())
         if total > max_bytes:
             raise UserError(
                 f"{path}: its arrays declare {total:,} bytes, more than such a "
