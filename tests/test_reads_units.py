@@ -109,15 +109,11 @@ def test_a_file_of_exactly_the_limit_is_read_one_byte_more_is_not(tmp_path):
     )
 
 
-def test_no_more_than_one_byte_past_the_limit_is_read(tmp_path, monkeypatch):
-    """Whatever a file holds (``/proc`` files report 0 bytes and hold
-    megabytes), a read asks for ``limit + 1`` bytes, once."""
-    path = tmp_path / "f"
-    path.write_bytes(b"x" * 100)
+def _reads_through(monkeypatch, read) -> None:
+    """Every file ``reads`` opens reads through ``read(file, n)``."""
     real = os.fdopen
-    asked = []
 
-    class Counting:
+    class Through:
         def __init__(self, f):
             self.f = f
 
@@ -128,10 +124,18 @@ def test_no_more_than_one_byte_past_the_limit_is_read(tmp_path, monkeypatch):
             self.f.close()
 
         def read(self, n=-1):
-            asked.append(n)
-            return self.f.read(n)
+            return read(self.f, n)
 
-    monkeypatch.setattr(reads.os, "fdopen", lambda fd, mode: Counting(real(fd, mode)))
+    monkeypatch.setattr(reads.os, "fdopen", lambda fd, mode: Through(real(fd, mode)))
+
+
+def test_no_more_than_one_byte_past_the_limit_is_read(tmp_path, monkeypatch):
+    """Whatever a file holds (``/proc`` files report 0 bytes and hold
+    megabytes), a read asks for ``limit + 1`` bytes, once."""
+    path = tmp_path / "f"
+    path.write_bytes(b"x" * 100)
+    asked = []
+    _reads_through(monkeypatch, lambda f, n: (asked.append(n), f.read(n))[1])
     with pytest.raises(UserError, match="larger than 10 bytes"):
         reads.read_bytes(path, "thing", 10)
     assert reads.read_bytes(path, "thing", 200) == b"x" * 100
@@ -141,22 +145,11 @@ def test_no_more_than_one_byte_past_the_limit_is_read(tmp_path, monkeypatch):
 def test_a_read_that_fails_is_named(tmp_path, monkeypatch):
     path = tmp_path / "f"
     path.write_bytes(b"abc")
-    real = os.fdopen
 
-    class Failing:
-        def __init__(self, f):
-            self.f = f
+    def failing(f, n):
+        raise OSError(5, "Input/output error")
 
-        def __enter__(self):
-            return self
-
-        def __exit__(self, *exc):
-            self.f.close()
-
-        def read(self, n=-1):
-            raise OSError(5, "Input/output error")
-
-    monkeypatch.setattr(reads.os, "fdopen", lambda fd, mode: Failing(real(fd, mode)))
+    _reads_through(monkeypatch, failing)
     assert _refused(reads.read_bytes, path, "thing", 10) == (
         f"{path}: cannot be read (Input/output error)"
     )
