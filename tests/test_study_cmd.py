@@ -309,6 +309,27 @@ def test_out_is_for_the_table_and_an_empty_directory(finished, tmp_path):
     assert mine.read_text() == "mine" and (tmp_path / TABLE_MD).is_file()
 
 
+def test_a_table_that_fails_leaves_no_out_behind(
+    finished, tmp_path, monkeypatch, capsys
+):
+    """Scores written into a new --out, then the table fails: no half-made
+    directory is left (the study's own cache keeps what was scored)."""
+    import locustjump.cli.study as cli_study
+    from locustjump.cli import main
+
+    def half(study, backend, log=None, out=None):
+        out.mkdir(parents=True, exist_ok=True)  # as study_table does
+        (out / "scores.json").write_text("{}")
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(cli_study, "study_table", half)
+    path, _, _ = finished
+    look = tmp_path / "a" / "look"
+    assert main(["study", str(path), "--table", "--out", str(look)]) == 2
+    assert "No space left on device" in capsys.readouterr().err
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_moved_runs_keep_their_scores(finished, tmp_path, monkeypatch):
     """The score cache is keyed by what a run is, not where it lies: the runs
     moved elsewhere (as shipping moves them into results/) are tabled from

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import sys
 
 from locustjump import rundir
@@ -104,7 +105,13 @@ def cmd_study(args: argparse.Namespace) -> int:
         print(line, file=sys.stderr)
 
     if args.table:
-        md, js = study_table(study, backend, log=log, out=out)
+        # --out: made, locked, and removed again if the table fails
+        with (
+            contextlib.nullcontext(None)
+            if out is None
+            else rundir.output_dir(out, force=args.force)
+        ) as where:
+            md, js = study_table(study, backend, log=log, out=where)
         print(rundir.read_text(md), end="")
         print(f"wrote {md}, {js}, {md.parent / FIGURE}")
         return 0
