@@ -134,6 +134,12 @@ def _cast(
 
 
 EQUIVALENT: dict[str, tuple[str, str]] = {
+    "locustjump.rundir.outputs.x_prepare_out_file__mutmut_22": (
+        "setting) and not out.parent.is_dir()",
+        "a parent that exists and is not a directory never gets here: looking "
+        "at the file under it (the _exists of out) fails first with 'Not a "
+        "directory'; the is_dir test only guards a parent replaced meanwhile",
+    ),
     "locustjump.rundir.reads.x__read_npz__mutmut_34": (
         "allow_pickle=None",
         "None is false, as False: NumPy unpickles nothing (the explicit False "

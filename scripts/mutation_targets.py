@@ -60,6 +60,9 @@ MODULES: dict[str, tuple[str, ...]] = {
     "present/study_figure.py": ("tests/test_study_figure.py",),
     # every read of a file a user names: regular files only, bounded, no pickle
     "rundir/reads.py": ("tests/test_reads_units.py", "tests/test_reads.py"),
+    # where a command writes: checked first, never a run's own files, nothing
+    # half-made left
+    "rundir/outputs.py": ("tests/test_outputs.py",),
 }
 
 #: modules of which only some functions are mutated (mutmut's name patterns):

@@ -90,6 +90,11 @@ def test_an_out_file_new_or_forced(tmp_path):
     assert _refused(outputs.prepare_out_file, missing) == (
         f"out {missing}: directory {missing.parent} does not exist"
     )
+    broken = tmp_path / "broken"
+    broken.symlink_to(tmp_path / "gone")
+    assert _refused(outputs.prepare_out_file, broken / "v.mp4", setting="figure") == (
+        f"figure {broken}: a broken symbolic link"
+    )
     on_a_file = f / "v.mp4"
     assert _refused(outputs.prepare_out_file, on_a_file) == (
         f"out {on_a_file}: Not a directory"
@@ -143,6 +148,8 @@ def test_make_dir_returns_the_topmost_directory_it_made(tmp_path):
     assert list(tmp_path.iterdir()) == []
     outputs.remove_made(None)  # nothing made: nothing removed
     assert tmp_path.is_dir()
+    # gone already (another cleanup was first): nothing to complain about
+    outputs.remove_made(tmp_path / "gone")
 
 
 def test_make_dir_names_what_it_cannot_create(tmp_path):
@@ -153,6 +160,9 @@ def test_make_dir_names_what_it_cannot_create(tmp_path):
     )
     assert _refused(outputs.make_dir, where, None) == (
         f"{where}: cannot be created (Not a directory)"
+    )
+    assert _refused(outputs.make_dir, where) == (
+        f"out {where}: cannot be created (Not a directory)"
     )
 
 
