@@ -200,20 +200,29 @@ def test_output_dir_made_locked_and_removed_on_failure(tmp_path):
     assert tree_snapshot(tmp_path / "o") == before
 
 
+def _second_look_finds(monkeypatch, name, meanwhile) -> list:
+    """``outputs.<name>`` (the check) watched: before its second look, another
+    process does ``meanwhile(path)``. Returns the paths looked at."""
+    real = getattr(outputs, name)
+    looks = []
+
+    def watched(path, **kw):
+        looks.append(path)
+        if len(looks) == 2:
+            meanwhile(Path(path))
+        return real(path, **kw)
+
+    monkeypatch.setattr(outputs, name, watched)
+    return looks
+
+
 def test_output_dir_checks_again_under_the_lock(tmp_path, monkeypatch):
     """Another process filled the directory between the first look and the
     lock: the second look refuses it, and keeps what that process wrote."""
     d = tmp_path / "o"
-    real = outputs.check_out_dir
-    looks = []
-
-    def first_then_filled(path, **kw):
-        looks.append(path)
-        if len(looks) == 2:
-            (Path(path) / "theirs").write_text("x")
-        return real(path, **kw)
-
-    monkeypatch.setattr(outputs, "check_out_dir", first_then_filled)
+    looks = _second_look_finds(
+        monkeypatch, "check_out_dir", lambda p: (p / "theirs").write_text("x")
+    )
     with pytest.raises(UserError, match="is not empty"):
         with outputs.output_dir(d):
             pass
@@ -238,16 +247,9 @@ def test_output_dir_and_file_wait_for_no_one_who_holds_the_lock(tmp_path):
 
 def test_output_file_checks_again_under_the_lock(tmp_path, monkeypatch):
     f = tmp_path / "f.png"
-    real = outputs.prepare_out_file
-    looks = []
-
-    def first_then_written(path, **kw):
-        looks.append(path)
-        if len(looks) == 2:
-            Path(path).write_text("theirs")
-        return real(path, **kw)
-
-    monkeypatch.setattr(outputs, "prepare_out_file", first_then_written)
+    looks = _second_look_finds(
+        monkeypatch, "prepare_out_file", lambda p: p.write_text("theirs")
+    )
     with pytest.raises(UserError, match="file exists"):
         with outputs.output_file(f):
             pass

@@ -18,9 +18,8 @@ margin and the seeds 80 % power would need (:mod:`locustjump.present.stats`),
 and the verdict those numbers allow.
 
 Scores are kept in ``OUT/scores.json``, keyed by each run's configuration
-hash, best genome and the evaluation (not by where the run lies: a run
-moved, e.g. shipped from runs/ into results/, keeps its scores), so that a
-table is rescored only for what changed.
+hash, best genome and the evaluation (not by its path: a shipped run keeps
+its scores), so that a table is rescored only for what changed.
 """
 
 from __future__ import annotations
