@@ -12,7 +12,11 @@ MODULES: dict[str, tuple[str, ...]] = {
         "tests/test_optimizers.py",
     ),
     "rundir/metrics.py": ("tests/test_metrics_contract.py",),
-    "rundir/config.py": ("tests/test_config_contract.py", "tests/test_migrations.py"),
+    "rundir/config.py": (
+        "tests/test_config_contract.py",
+        "tests/test_config_coerce.py",
+        "tests/test_migrations.py",
+    ),
     "sim/sensors.py": (
         "tests/test_sensors_inputs.py",
         "tests/test_sensors_controller.py",
@@ -22,11 +26,19 @@ MODULES: dict[str, tuple[str, ...]] = {
         "tests/test_sensors_controller.py",
     ),
     "rundir/checkpoint.py": ("tests/test_checkpoint_contract.py",),
-    "evo/base.py": ("tests/test_optimizer_contract.py", "tests/test_rcga_behaviour.py"),
+    "evo/base.py": (
+        "tests/test_optimizer_contract.py",
+        "tests/test_optimizer_registry.py",
+        "tests/test_rcga_behaviour.py",
+    ),
     "evo/random_search.py": ("tests/test_optimizer_contract.py",),
     "evo/cma.py": ("tests/test_cma_contract.py",),
-    "evo/__init__.py": ("tests/test_optimizer_contract.py",),
-    "tasks/kick.py": ("tests/test_kick_fitness.py", "tests/test_qd.py"),
+    "evo/__init__.py": ("tests/test_optimizer_registry.py",),
+    "tasks/kick.py": (
+        "tests/test_kick_fitness.py",
+        "tests/test_qd.py",
+        "tests/test_qd_run.py",
+    ),
     "tasks/getup.py": ("tests/test_task_fitness.py",),
     "tasks/return_legs.py": ("tests/test_task_fitness.py",),
     "tasks/base.py": ("tests/test_task_fitness.py",),
@@ -42,7 +54,11 @@ MODULES: dict[str, tuple[str, ...]] = {
     # the height-only ablation of issue #45: its answer rests on this fitness
     "tasks/height_only.py": ("tests/test_height_only.py",),
     # quality diversity (issue #46): descriptors, the archive, the optimizers
-    "tasks/descriptors.py": ("tests/test_descriptors.py", "tests/test_qd.py"),
+    "tasks/descriptors.py": (
+        "tests/test_descriptors.py",
+        "tests/test_qd.py",
+        "tests/test_qd_run.py",
+    ),
     "evo/archive.py": ("tests/test_archive.py",),
     "evo/qd.py": ("tests/test_qd_params.py",),
     "evo/map_elites.py": ("tests/test_qd_params.py",),
@@ -59,7 +75,11 @@ MODULES: dict[str, tuple[str, ...]] = {
     # which comparison a study's figure draws on which row
     "present/study_figure.py": ("tests/test_study_figure.py",),
     # every read of a file a user names: regular files only, bounded, no pickle
-    "rundir/reads.py": ("tests/test_reads_units.py", "tests/test_reads.py"),
+    "rundir/reads.py": (
+        "tests/test_reads_units.py",
+        "tests/test_reads_npz.py",
+        "tests/test_reads.py",
+    ),
     # where a command writes: checked first, never a run's own files, nothing
     # half-made left
     "rundir/outputs.py": ("tests/test_outputs.py",),

@@ -9,7 +9,7 @@ import mujoco
 import numpy as np
 import pytest
 
-from helpers import TINY_GENERATIONS
+from helpers import TINY_GENERATIONS, example_study, run_cli
 from locustjump.sim import model as lm
 
 
@@ -87,3 +87,17 @@ def pytest_runtest_makereport(item, call):
         reason = report.longrepr[2] if isinstance(report.longrepr, tuple) else ""
         report.outcome = "failed"
         report.longrepr = f"skipped in CI, where every test must run: {reason}"
+
+
+@pytest.fixture(scope="session")
+def finished_study(tmp_path_factory):
+    """The example study (``helpers.example_study``), trained and tabled once
+    a session: ``(study file, the train's and the table's CompletedProcess)``.
+    Read-only: a test that changes it works on a copy."""
+    tmp = tmp_path_factory.mktemp("study")
+    path = example_study(tmp)
+    r = run_cli("study", str(path), "--quiet", "--threads", "2")
+    assert r.returncode == 0, r.stderr
+    t = run_cli("study", str(path), "--table", "--quiet")
+    assert t.returncode == 0, t.stderr
+    return path, r, t

@@ -12,6 +12,7 @@ from types import SimpleNamespace
 import numpy as np
 
 from locustjump import rundir
+from locustjump.evo import Optimizer
 
 #: the smallest budget that runs every stage of a reproduction (conftest's
 #: tiny_reproduction)
@@ -21,6 +22,9 @@ TINY_GENERATIONS = {"kick": 1, "getup": 1, "return-legs": 1, "composed": 1}
 #: term (x) and at 12-26 weeks (y), the example of R's ?wilcox.test
 HW_X = [0.80, 0.83, 1.89, 1.04, 1.45, 1.38, 1.91, 1.64, 0.73, 1.46]
 HW_Y = [1.15, 0.88, 0.90, 0.74, 1.21]
+
+#: the example study (studies/example.toml), trained in seconds
+EXAMPLE = Path(__file__).resolve().parents[1] / "studies" / "example.toml"
 
 EXACT = ("generation", "best", "mean", "std", "evaluations", "control_steps")
 
@@ -133,3 +137,53 @@ def main_while_held(directory: Path, argv: list[str], capsys) -> tuple[int, str,
         holder.kill()
         holder.wait()
     return code, capsys.readouterr().err, holder.pid
+
+
+def example_study(tmp_path: Path, **changes: str) -> Path:
+    """The example study with its runs and table under ``tmp_path``."""
+    text = EXAMPLE.read_text().replace(
+        'root = "runs/studies/example"', f'root = "{tmp_path / "runs"}"'
+    )
+    for old, new in changes.items():
+        assert old in text
+        text = text.replace(old, new)
+    path = tmp_path / "example.toml"
+    path.write_text(text)
+    return path
+
+
+def user_error(call, *args, **kw) -> str:
+    """The words of the ``UserError`` that ``call(*args, **kw)`` raises."""
+    import pytest
+
+    from locustjump.errors import UserError
+
+    with pytest.raises(UserError) as e:
+        call(*args, **kw)
+    return str(e.value)
+
+
+def exactly(message: str) -> str:
+    """A ``match=`` pattern for exactly ``message``, nothing before or after."""
+    import re
+
+    return "^" + re.escape(message) + "$"
+
+
+class Fixed(Optimizer):
+    """An optimizer on the base's own ``__init__`` that asks the rows it was
+    given and learns nothing."""
+
+    rows = np.zeros((1, 3), dtype=np.int64)
+
+    def _ask(self):
+        return self.rows
+
+    def _tell(self, genomes, fitness):
+        return None
+
+    def _state(self):
+        return {}
+
+    def _set_state(self, state):
+        pass

@@ -51,7 +51,7 @@ def assert_same_reproduction(a: Path, b: Path) -> None:
 
 @pytest.fixture(scope="module")
 def singles(tiny_reproduction) -> dict[int, Path]:
-    """The single-seed reproductions (conftest: shared with test_composed)."""
+    """The single-seed reproductions (conftest: shared with test_reproduce)."""
     return {s: tiny_reproduction(s) for s in SEEDS}
 
 

@@ -1,23 +1,14 @@
 """``rundir.reads`` function by function: each refusal's exact words, each
 bound at its edge (``tests/test_reads.py`` tries them through the commands)."""
 
-import io
 import os
-import zipfile
 from pathlib import Path
 
-import numpy as np
 import pytest
 
+from helpers import user_error
 from locustjump.errors import UserError
 from locustjump.rundir import reads
-
-
-def _refused(call, *args, **kw) -> str:
-    with pytest.raises(UserError) as e:
-        call(*args, **kw)
-    return str(e.value)
-
 
 # -- regular files only --------------------------------------------------------
 
@@ -30,12 +21,13 @@ def test_what_a_path_is_when_it_is_not_a_regular_file(tmp_path):
         (fifo, "a FIFO (named pipe)"),
         (Path("/dev/null"), "a character device"),
     ):
-        assert _refused(reads.read_bytes, path, "TOML file", 10) == (
+        assert user_error(reads.read_bytes, path, "TOML file", 10) == (
             f"{path}: is {kind}, not a regular file; expected a TOML file"
         )
     # "an" before a vowel or a dot
-    assert _refused(reads.load_npz, tmp_path, ("a",)).endswith("expected an .npz file")
-    assert _refused(reads.read_text, tmp_path, "image").endswith("expected an image")
+    npz = user_error(reads.load_npz, tmp_path, ("a",))
+    assert npz.endswith("expected an .npz file")
+    assert user_error(reads.read_text, tmp_path, "image").endswith("expected an image")
 
 
 def test_a_mode_of_no_known_kind_is_something_else(tmp_path):
@@ -48,15 +40,15 @@ def test_a_mode_of_no_known_kind_is_something_else(tmp_path):
 
 
 def test_missing_files_and_broken_links_are_named(tmp_path):
-    assert _refused(reads.read_text, tmp_path / "none") == (
+    assert user_error(reads.read_text, tmp_path / "none") == (
         f"{tmp_path / 'none'}: no such file"
     )
     link = tmp_path / "link"
     link.symlink_to(tmp_path / "gone")
-    assert _refused(reads.read_json, link) == f"{link}: a broken symbolic link"
+    assert user_error(reads.read_json, link) == f"{link}: a broken symbolic link"
     loop = tmp_path / "loop"
     loop.symlink_to(loop)
-    assert _refused(reads.read_text, loop) == (
+    assert user_error(reads.read_text, loop) == (
         f"{loop}: cannot be read (Too many levels of symbolic links)"
     )
 
@@ -76,7 +68,7 @@ def test_a_file_replaced_between_the_look_and_the_open_is_looked_at_again(
         return st
 
     monkeypatch.setattr(reads.os, "stat", regular)
-    assert _refused(reads.read_text, path) == (
+    assert user_error(reads.read_text, path) == (
         f"{path}: is a FIFO (named pipe), not a regular file; expected a text file"
     )
 
@@ -90,7 +82,7 @@ def test_a_file_that_vanishes_before_it_is_opened(tmp_path, monkeypatch):
         raise FileNotFoundError(2, "No such file or directory")
 
     monkeypatch.setattr(reads.os, "open", gone)
-    assert _refused(reads.read_text, path) == f"{path}: no such file"
+    assert user_error(reads.read_text, path) == f"{path}: no such file"
 
 
 # -- sizes -------------------------------------------------------------------------
@@ -100,11 +92,11 @@ def test_a_file_of_exactly_the_limit_is_read_one_byte_more_is_not(tmp_path):
     path = tmp_path / "f"
     path.write_bytes(b"x" * 1024)
     assert reads.read_bytes(path, "thing", 1024) == b"x" * 1024
-    assert _refused(reads.read_bytes, path, "thing", 1023) == (
+    assert user_error(reads.read_bytes, path, "thing", 1023) == (
         f"{path}: larger than 1,023 bytes, not a thing"
     )
     path.write_bytes(b"x" * 1025)
-    assert _refused(reads.read_bytes, path, "thing", 1024) == (
+    assert user_error(reads.read_bytes, path, "thing", 1024) == (
         f"{path}: larger than 1 KiB, not a thing"
     )
 
@@ -150,7 +142,7 @@ def test_a_read_that_fails_is_named(tmp_path, monkeypatch):
         raise OSError(5, "Input/output error")
 
     _reads_through(monkeypatch, failing)
-    assert _refused(reads.read_bytes, path, "thing", 10) == (
+    assert user_error(reads.read_bytes, path, "thing", 10) == (
         f"{path}: cannot be read (Input/output error)"
     )
 
@@ -177,7 +169,7 @@ def test_sizes_in_their_largest_whole_unit(n, text):
 def test_text_that_is_not_utf8(tmp_path):
     path = tmp_path / "f"
     path.write_bytes(b"a = \xff\n")
-    assert _refused(reads.read_text, path, "config") == (
+    assert user_error(reads.read_text, path, "config") == (
         f"{path}: not a config (not UTF-8: invalid start byte)"
     )
 
@@ -232,12 +224,12 @@ def test_toml_and_json_nested_to_the_limit_and_past_it(tmp_path, monkeypatch):
     path.write_text(_nested(reads.MAX_NESTING - 1))
     assert reads.depth(reads.read_toml(path)) == reads.MAX_NESTING
     path.write_text(_nested(reads.MAX_NESTING))  # 32 brackets, 33 once parsed
-    assert _refused(reads.read_toml, path, "config") == (
+    assert user_error(reads.read_toml, path, "config") == (
         f"{path}: nested more than 32 deep, not a config"
     )
     # dotted keys: no bracket, 33 tables once parsed
     path.write_text(".".join(["a"] * 33) + " = 1\n")
-    assert _refused(reads.read_toml, path) == (
+    assert user_error(reads.read_toml, path) == (
         f"{path}: nested more than 32 deep, not a TOML file"
     )
     path.write_text(".".join(["a"] * 32) + " = 1\n")
@@ -249,11 +241,11 @@ def test_toml_and_json_nested_to_the_limit_and_past_it(tmp_path, monkeypatch):
     monkeypatch.setattr(reads.tomllib, "loads", lambda t: pytest.fail("parsed"))
     monkeypatch.setattr(reads.json, "loads", lambda t: pytest.fail("parsed"))
     path.write_text(_nested(reads.MAX_NESTING + 1))
-    assert _refused(reads.read_toml, path) == (
+    assert user_error(reads.read_toml, path) == (
         f"{path}: nested more than 32 deep, not a TOML file"
     )
     js.write_text("[" * 33 + "]" * 33)
-    assert _refused(reads.read_json, js) == (
+    assert user_error(reads.read_json, js) == (
         f"{js}: nested more than 32 deep, not a JSON file"
     )
 
@@ -261,180 +253,19 @@ def test_toml_and_json_nested_to_the_limit_and_past_it(tmp_path, monkeypatch):
 def test_toml_and_json_that_do_not_parse(tmp_path):
     path = tmp_path / "f.toml"
     path.write_bytes(b"a = '\xff'\n")
-    assert _refused(reads.read_toml, path) == (
+    assert user_error(reads.read_toml, path) == (
         f"{path}: not a TOML file (not UTF-8: invalid start byte)"
     )
     path.write_text("a = \n")
-    assert _refused(reads.read_toml, path).startswith(f"{path}: not valid TOML (")
+    assert user_error(reads.read_toml, path).startswith(f"{path}: not valid TOML (")
     js = tmp_path / "f.json"
     js.write_text("{")
-    assert _refused(reads.read_json, js).startswith(f"{js}: not readable JSON (")
+    assert user_error(reads.read_json, js).startswith(f"{js}: not readable JSON (")
     js.write_text("[1, 2]")
-    assert _refused(reads.read_json, js) == f"{js}: not a JSON object (list)"
+    assert user_error(reads.read_json, js) == f"{js}: not a JSON object (list)"
     js.write_text('{"a": [1]}')
     assert reads.read_json(js) == {"a": [1]}
-    assert _refused(reads.read_json, js, 9) == (
+    assert user_error(reads.read_json, js, 9) == (
         f"{js}: larger than 9 bytes, not a JSON file"
     )
     assert reads.read_json(js, 10) == {"a": [1]}
-
-
-# -- .npz ----------------------------------------------------------------------------
-
-
-def _npy(a: np.ndarray) -> bytes:
-    b = io.BytesIO()
-    np.save(b, a, allow_pickle=True)
-    return b.getvalue()
-
-
-def _npz(path: Path, members: dict[str, bytes], **kw) -> Path:
-    with zipfile.ZipFile(path, "w", **kw) as zf:
-        for name, data in members.items():
-            zf.writestr(name, data)
-    return path
-
-
-def test_an_npz_gives_the_arrays_asked_for(tmp_path):
-    a, b, c = np.zeros((0, 3)), np.eye(2), np.array([7], dtype=np.int64)
-    path = _npz(tmp_path / "f.npz", {"a.npy": _npy(a), "b.npy": _npy(b),
-                                     "opt_c.npy": _npy(c)})  # fmt: skip
-    got = reads.load_npz(path, ("a",), optional=("b", "z"), prefix="opt_")
-    assert sorted(got) == ["a", "b", "opt_c"]
-    for k, v in (("a", a), ("b", b), ("opt_c", c)):
-        np.testing.assert_array_equal(got[k], v)
-        assert got[k].dtype == v.dtype
-    assert _refused(reads.load_npz, path, ("a", "b", "x", "y"), prefix="opt_") == (
-        f"{path}: missing x, y"
-    )
-    assert _refused(reads.load_npz, path, ("a", "b")) == (
-        f"{path}: holds 'opt_c.npy', which such a file does not (nothing read)"
-    )
-
-
-def test_npz_members_that_such_a_file_does_not_hold(tmp_path):
-    path = tmp_path / "f.npz"
-    _npz(path, {"a.npy": _npy(np.zeros(1)), "a.txt": b"x"})
-    assert _refused(reads.load_npz, path, ("a",), optional=("a.txt",)) == (
-        f"{path}: holds 'a.txt', which such a file does not (nothing read)"
-    )
-    with pytest.warns(UserWarning, match="Duplicate name"):
-        _npz(path, {"a.npy": _npy(np.zeros(1))})
-        with zipfile.ZipFile(path, "a") as zf:
-            zf.writestr("a.npy", _npy(np.ones(1)))
-    assert _refused(reads.load_npz, path, ("a",)) == (
-        f"{path}: holds 'a.npy', twice (nothing read)"
-    )
-    long = "x" * 70 + ".npy"
-    _npz(path, {"a.npy": _npy(np.zeros(1)), long: b""})
-    assert _refused(reads.load_npz, path, ("a",)) == (
-        f"{path}: holds {'x' * 60!r}, which such a file does not (nothing read)"
-    )
-    many = {f"a{i}.npy": b"" for i in range(reads.MAX_NPZ_MEMBERS)}
-    _npz(path, many)
-    wanted = tuple(f"a{i}" for i in range(reads.MAX_NPZ_MEMBERS))
-    with pytest.raises(UserError, match="not a readable .npz file"):  # empty .npy
-        reads.load_npz(path, wanted)
-    _npz(path, {**many, "b.npy": b""})
-    assert _refused(reads.load_npz, path, wanted) == (
-        f"{path}: holds 257 arrays, not a run's file"
-    )
-
-
-def _header(shape: tuple[int, ...], descr: str = "<f8") -> bytes:
-    b = io.BytesIO()
-    np.lib.format.write_array_header_1_0(
-        b, {"descr": descr, "fortran_order": False, "shape": shape}
-    )
-    return b.getvalue()
-
-
-def test_what_an_npz_member_declares_is_checked_before_it_is_read(tmp_path):
-    path = tmp_path / "f.npz"
-    _npz(path, {"a.npy": _npy(np.array([{"x": 1}], dtype=object))})
-    assert _refused(reads.load_npz, path, ("a",)) == (
-        f"{path}: a.npy holds Python objects (not read)"
-    )
-    _npz(path, {"a.npy": _header((-1, 2))})
-    assert _refused(reads.load_npz, path, ("a",)) == (
-        f"{path}: a.npy declares the shape (-1, 2)"
-    )
-    member = _header((100,)) + bytes(8 * 3)
-    _npz(path, {"a.npy": member})
-    assert _refused(reads.load_npz, path, ("a",)) == (
-        f"{path}: a.npy declares 800 bytes of data but holds {len(member):,}"
-    )
-    # declaring as many bytes as the member holds, header and all, passes
-    # this check (and fails where the data ends)
-    n = next(n for n in range(1, 100) if 8 * n - len(_header((n,))) >= 0)
-    member = _header((n,)) + bytes(8 * n - len(_header((n,))))
-    _npz(path, {"a.npy": member})
-    assert len(member) == 8 * n
-    assert _refused(reads.load_npz, path, ("a",)).startswith(
-        f"{path}: not a readable .npz file ("
-    )
-    exact = _header((4,)) + bytes(8 * 4)
-    _npz(path, {"a.npy": exact, "b.npy": exact})
-    assert reads.load_npz(path, ("a", "b"), max_bytes=64)["b"].shape == (4,)
-    assert _refused(reads.load_npz, path, ("a", "b"), max_bytes=63) == (
-        f"{path}: its arrays declare 64 bytes, more than such a file holds "
-        "(63; nothing inflated)"
-    )
-
-
-def test_the_memory_an_npz_needs_is_asked_for_by_name(tmp_path, monkeypatch):
-    path = _npz(tmp_path / "f.npz", {"a.npy": _npy(np.zeros(4)),
-                                     "b.npy": _npy(np.zeros(2))})  # fmt: skip
-    asked = []
-    monkeypatch.setattr(
-        reads, "require_memory", lambda n, what: asked.append((n, what))
-    )
-    reads.load_npz(path, ("a", "b"))
-    assert asked == [(48, f"{path}: its arrays")]
-
-
-def test_objects_are_not_unpickled_even_past_the_header_check(tmp_path, monkeypatch):
-    """The header check refuses object arrays; were it to miss one, NumPy is
-    still told not to unpickle it."""
-    path = _npz(tmp_path / "f.npz", {"a.npy": _npy(np.array([{"x": 1}], dtype=object))})
-    monkeypatch.setattr(reads, "_declared", lambda path, zf, info: 0)
-    assert _refused(reads.load_npz, path, ("a",)) == (
-        f"{path}: not a readable .npz file (Object arrays cannot be loaded when "
-        "allow_pickle=False)"
-    )
-
-
-def test_an_npz_larger_than_such_a_file_is_refused_unread(tmp_path):
-    path = tmp_path / "f.npz"
-    path.write_bytes(bytes(reads.NPZ_OVERHEAD + 11))
-    assert _refused(reads.load_npz, path, ("a",), max_bytes=10) == (
-        f"{path}: {reads.NPZ_OVERHEAD + 11:,} bytes, more than such a file holds "
-        f"({reads.NPZ_OVERHEAD + 10:,})"
-    )
-    path.write_bytes(bytes(reads.NPZ_OVERHEAD + 10))
-    assert _refused(reads.load_npz, path, ("a",), max_bytes=10).startswith(
-        f"{path}: not an .npz file ("
-    )
-
-
-def test_damaged_npz_files_are_one_error(tmp_path):
-    path = tmp_path / "f.npz"
-    _npz(path, {"a.npy": b"\x93NUMPY\x03\x00"})  # an unknown .npy version
-    assert _refused(reads.load_npz, path, ("a",)) == (
-        f"{path}: not a readable .npz file (unsupported .npy version (3, 0))"
-    )
-    _npz(path, {"a.npy": _npy(np.arange(1000.0))}, compression=zipfile.ZIP_DEFLATED)
-    data = bytearray(path.read_bytes())
-    data[200:260] = bytes(60)  # into the deflated stream
-    path.write_bytes(bytes(data))
-    assert _refused(reads.load_npz, path, ("a",)).startswith(f"{path}: not a")
-
-
-def test_a_version_2_header_is_read():
-    b = io.BytesIO()
-    np.lib.format.write_array_header_2_0(
-        b, {"descr": "<i4", "fortran_order": False, "shape": (2, 3)}
-    )
-    b.seek(0)
-    shape, dtype = reads._npy_header(b)
-    assert shape == (2, 3) and dtype == np.dtype("<i4")

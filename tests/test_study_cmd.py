@@ -8,43 +8,17 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from helpers import assert_same_run, run_cli, tree_snapshot
+from helpers import EXAMPLE, assert_same_run, example_study, run_cli, tree_snapshot
 from locustjump import rundir
 from locustjump.runs.study_table import TABLE_JSON, TABLE_MD
 from locustjump.runs.studyfile import load_study
 from locustjump.runs.trainer import train
 
 REPO = Path(__file__).resolve().parents[1]
-EXAMPLE = REPO / "studies" / "example.toml"
-
-
-def example(tmp_path: Path, **changes: str) -> Path:
-    """The example study with its runs and table under ``tmp_path``."""
-    text = EXAMPLE.read_text().replace(
-        'root = "runs/studies/example"', f'root = "{tmp_path / "runs"}"'
-    )
-    for old, new in changes.items():
-        assert old in text
-        text = text.replace(old, new)
-    path = tmp_path / "example.toml"
-    path.write_text(text)
-    return path
-
-
-@pytest.fixture(scope="module")
-def finished(tmp_path_factory):
-    """The example study, trained and tabled once."""
-    tmp = tmp_path_factory.mktemp("study")
-    path = example(tmp)
-    r = run_cli("study", str(path), "--quiet", "--threads", "2")
-    assert r.returncode == 0, r.stderr
-    t = run_cli("study", str(path), "--table", "--quiet")
-    assert t.returncode == 0, t.stderr
-    return path, r, t
 
 
 def test_dry_run_prints_the_plan_and_its_cost_and_writes_nothing(tmp_path):
-    path = example(tmp_path)
+    path = example_study(tmp_path)
     r = run_cli("study", str(path), "--dry-run", "--threads", "1")
     assert r.returncode == 0, r.stderr
     assert "| rcga | kick | flat x 1 | 4 x 8 |" in r.stdout
@@ -64,7 +38,7 @@ def test_dry_run_says_when_its_rates_were_measured_on_a_busy_machine(
 
     monkeypatch.setattr(st.os, "getloadavg", lambda: (load, 0.0, 0.0))
     with ThreadBackend(1) as backend:
-        text = st.dry_run(load_study(example(tmp_path)), backend)
+        text = st.dry_run(load_study(example_study(tmp_path)), backend)
     note = f"busy when they were measured (load average {load:.1f} over"
     assert (note in text) == (load >= 0.5), text.splitlines()[-1]
 
@@ -82,7 +56,7 @@ def test_dry_run_times_each_scoring_resolution_at_its_own_rate(tmp_path, monkeyp
         return rates[substeps]
 
     monkeypatch.setattr(st, "throughput", rate)
-    path = example(tmp_path)
+    path = example_study(tmp_path)
     path.write_text(path.read_text() + "\n[evaluation]\nsubsteps = [3, 12]\n")
     study = load_study(path)
     text = st.dry_run(study, backend=None)
@@ -94,8 +68,8 @@ def test_dry_run_times_each_scoring_resolution_at_its_own_rate(tmp_path, monkeyp
     assert seen == [None, 12, None, 12]  # each arm: as trained, then at 12
 
 
-def test_each_run_is_the_run_train_makes(finished, tmp_path):
-    path, r, _ = finished
+def test_each_run_is_the_run_train_makes(finished_study, tmp_path):
+    path, r, _ = finished_study
     study = load_study(path)
     assert "10 of 10 runs done" in r.stdout
     arm = study.arms["random"]
@@ -105,19 +79,19 @@ def test_each_run_is_the_run_train_makes(finished, tmp_path):
     assert rundir.load_config(arm.run_dir(1) / rundir.CONFIG) == arm.config(1)
 
 
-def test_status_after_the_runs(finished):
-    path, _, _ = finished
+def test_status_after_the_runs(finished_study):
+    path, _, _ = finished_study
     r = run_cli("study", str(path), "--status")
     assert r.returncode == 0
     assert "| rcga | done | done | done | done | done |" in r.stdout
     assert "10 of 10 runs done" in r.stdout
 
 
-def test_a_killed_study_continues_with_the_same_command(finished, tmp_path):
+def test_a_killed_study_continues_with_the_same_command(finished_study, tmp_path):
     """A run stopped after one generation (as a kill leaves it) continues from
     its checkpoint; the finished runs are kept as they are."""
-    path, _, _ = finished
-    mine = example(tmp_path, **{'seeds = "0-4"': 'seeds = "0-1"'})
+    path, _, _ = finished_study
+    mine = example_study(tmp_path, **{'seeds = "0-4"': 'seeds = "0-1"'})
     study = load_study(mine)
     arm = study.arms["rcga"]
     train(arm.config(0), arm.run_dir(0), progress=False, stop_after=1)
@@ -131,123 +105,8 @@ def test_a_killed_study_continues_with_the_same_command(finished, tmp_path):
     assert_same_run(arm.run_dir(0), load_study(path).arms["rcga"].run_dir(0))
 
 
-def _longer(finished, tmp_path: Path, generations: int = 6, **arm: str) -> Path:
-    """A study whose arms extend the finished example's seeds 0-1."""
-    src = load_study(finished[0])
-    rcga = {"optimizer": '{ kind = "rcga" }', "extends": f'"{src.arms["rcga"].path}"'}
-    rcga.update(arm)
-    table = "".join(f"{k} = {v}\n" for k, v in rcga.items())
-    text = f'''name = "longer"
-root = "{tmp_path / "runs"}"
-seeds = "0-1"
-reference = "rcga"
-[defaults]
-behaviour = "kick"
-generations = {generations}
-optimizer = {{ population = 8 }}
-[arms.rcga]
-{table}[arms.random]
-optimizer = {{ kind = "random" }}
-extends = "{src.arms["random"].path}"
-'''
-    path = tmp_path / "longer.toml"
-    path.write_text(text)
-    return path
-
-
-def test_a_longer_budget_continues_copies_of_finished_runs(finished, tmp_path):
-    """``extends``: each run starts as a copy of the finished one and trains
-    on; it is the run a longer budget makes from the start, bit for bit, and
-    the runs it extends are left as they were."""
-    longer = _longer(finished, tmp_path)
-    study = load_study(longer)
-    sources = [study.arms[a].source_dir(s) for a in ("rcga", "random") for s in (0, 1)]
-    before = [(d / rundir.METRICS).read_bytes() for d in sources]
-    status = run_cli("study", str(longer), "--status")
-    assert status.returncode == 0, status.stderr
-    assert "| rcga | 4/6 | 4/6 |" in status.stdout  # the copies will bring 4
-    r = run_cli("study", str(longer), "--quiet")
-    assert r.returncode == 0, r.stderr
-    # 2 generations x 8 genomes x 300 steps a run: only what the copies lack
-    assert "0 of 4 runs done, 4 to train (19,200 control steps)" in r.stderr
-    assert [(d / rundir.METRICS).read_bytes() for d in sources] == before
-    for d, old in zip(sources[:2], before[:2], strict=True):  # copied, wall times too
-        assert (study.arms["rcga"].run_dir(int(d.name[-1])) / rundir.METRICS
-                ).read_bytes().startswith(old)  # fmt: skip
-    arm = study.arms["rcga"]
-    alone = tmp_path / "alone"
-    train(arm.config(1), alone, progress=False)
-    assert_same_run(arm.run_dir(1), alone)
-    assert not list((tmp_path / "runs" / "rcga").glob(".*"))  # no copy left over
-
-
-@pytest.mark.parametrize(
-    "case",
-    ["missing", "no-checkpoint", "unfinished", "stopped", "not-longer", "template",
-     "other-config"],
-)  # fmt: skip
-def test_a_run_to_extend_is_checked_before_anything_runs(finished, tmp_path, case):
-    if case == "missing":
-        longer = _longer(finished, tmp_path, extends='"nowhere/{seed}"')
-        want = "extends nowhere/0: no run there"
-    elif case == "no-checkpoint":
-        mine = tmp_path / "mine"
-        shutil.copytree(load_study(finished[0]).arms["rcga"].run_dir(0), mine / "0")
-        (mine / "0" / rundir.CHECKPOINT).unlink()
-        longer = _longer(finished, tmp_path, extends=f'"{mine}/{{seed}}"')
-        want = f"holds no {rundir.CHECKPOINT} to continue from"
-    elif case == "unfinished":
-        mine = tmp_path / "mine"
-        cfg = load_study(_longer(finished, tmp_path)).arms["rcga"].config(0)
-        train(cfg.replace(generations=4), mine / "0", progress=False, stop_after=1)
-        longer = _longer(finished, tmp_path, extends=f'"{mine}/{{seed}}"')
-        want = "not finished (1 of 4 generations)"
-    elif case == "stopped":  # an optimizer that stopped has nothing to go on with
-        mine = tmp_path / "mine"
-        shutil.copytree(load_study(finished[0]).arms["rcga"].run_dir(0), mine / "0")
-        (mine / "0" / rundir.STOP).write_text("{}")
-        longer = _longer(finished, tmp_path, extends=f'"{mine}/{{seed}}"')
-        want = f"its optimizer stopped it early ({rundir.STOP})"
-    elif case == "not-longer":
-        longer = _longer(finished, tmp_path, generations=4)
-        want = "it has 4 generations; the arm's 4 must be more"
-    elif case == "template":
-        longer = _longer(finished, tmp_path, extends='"x/{sed}"')
-        want = "extends 'x/{sed}': the only field is {seed}"
-    else:
-        longer = _longer(
-            finished, tmp_path, optimizer="{ kind = 'rcga', population = 6 }"
-        )
-        want = "optimizer.population differ"
-    r = run_cli("study", str(longer), "--quiet")
-    assert r.returncode == 2 and want in r.stderr, r.stderr
-    assert len(r.stderr.strip().splitlines()) == 1, r.stderr
-    assert not (tmp_path / "runs").exists()
-
-
-def test_a_copy_that_fails_leaves_nothing(finished, tmp_path, monkeypatch):
-    """A full disk (or Ctrl-C) half-way through copying a run to extend: no
-    half copy is left, under any name, and the source is untouched."""
-    from locustjump.runs import study as study_mod
-
-    study = load_study(_longer(finished, tmp_path))
-    source = study.arms["rcga"].source_dir(0)
-    before = tree_snapshot(source)
-    real = shutil.copytree
-
-    def half(src, dst, **kw):
-        real(src, dst, **{**kw, "ignore": lambda d, names: names[1:]})
-        raise OSError(28, "No space left on device")
-
-    monkeypatch.setattr(study_mod.shutil, "copytree", half)
-    with pytest.raises(OSError, match="No space left"):
-        study_mod.run_study(study, progress=False, log=lambda m: None)
-    assert list((tmp_path / "runs" / "rcga").iterdir()) == []
-    assert tree_snapshot(source) == before
-
-
-def test_the_table(finished):
-    path, _, t = finished
+def test_the_table(finished_study):
+    path, _, t = finished_study
     study = load_study(path)
     data = json.loads((study.out / TABLE_JSON).read_text())
     assert (study.out / TABLE_MD).read_text() in t.stdout
@@ -271,8 +130,8 @@ def test_the_table(finished):
     assert (study.out / "scores.png").read_bytes().startswith(b"\x89PNG")
 
 
-def test_a_table_of_one_seed_compares_nothing_and_says_why(finished, tmp_path):
-    path, _, _ = finished
+def test_a_table_of_one_seed_compares_nothing_and_says_why(finished_study, tmp_path):
+    path, _, _ = finished_study
     study = load_study(path)
     before = tree_snapshot(study.out)
     look = tmp_path / "look"  # the same runs, this table elsewhere
@@ -287,8 +146,8 @@ def test_a_table_of_one_seed_compares_nothing_and_says_why(finished, tmp_path):
     assert "scoring [" not in t.stderr  # its scores read from the study's cache
 
 
-def test_out_is_for_the_table_and_an_empty_directory(finished, tmp_path):
-    path, _, _ = finished
+def test_out_is_for_the_table_and_an_empty_directory(finished_study, tmp_path):
+    path, _, _ = finished_study
     for argv, message in (
         (("--status", "--out", str(tmp_path / "t")),
          "--out is where --table writes; it needs --table"),
@@ -310,7 +169,7 @@ def test_out_is_for_the_table_and_an_empty_directory(finished, tmp_path):
 
 
 def test_a_table_that_fails_leaves_no_out_behind(
-    finished, tmp_path, monkeypatch, capsys
+    finished_study, tmp_path, monkeypatch, capsys
 ):
     """Scores written into a new --out, then the table fails: no half-made
     directory is left (the study's own cache keeps what was scored)."""
@@ -323,20 +182,20 @@ def test_a_table_that_fails_leaves_no_out_behind(
         raise OSError(28, "No space left on device")
 
     monkeypatch.setattr(cli_study, "study_table", half)
-    path, _, _ = finished
+    path, _, _ = finished_study
     look = tmp_path / "a" / "look"
     assert main(["study", str(path), "--table", "--out", str(look)]) == 2
     assert "No space left on device" in capsys.readouterr().err
     assert list(tmp_path.iterdir()) == []
 
 
-def test_moved_runs_keep_their_scores(finished, tmp_path, monkeypatch):
+def test_moved_runs_keep_their_scores(finished_study, tmp_path, monkeypatch):
     """The score cache is keyed by what a run is, not where it lies: the runs
     moved elsewhere (as shipping moves them into results/) are tabled from
     the scores kept, and two runs that differ have different keys."""
     import locustjump.runs.study_table as st
 
-    path, _, _ = finished
+    path, _, _ = finished_study
     study = load_study(path)
     shutil.copytree(study.root, tmp_path / "moved")
     out = shutil.copytree(study.out, tmp_path / "out")
@@ -377,7 +236,7 @@ def test_moved_runs_keep_their_scores(finished, tmp_path, monkeypatch):
     ],
 )  # fmt: skip
 def test_a_wrong_study_file_is_one_line_and_starts_nothing(tmp_path, change, message):
-    path = example(tmp_path, **{change[0]: change[1]})
+    path = example_study(tmp_path, **{change[0]: change[1]})
     for how in ((), ("--dry-run",), ("--table",), ("--status",)):
         r = run_cli("study", str(path), *how)
         assert r.returncode == 2, r.stderr
@@ -399,11 +258,11 @@ def test_frozen_arms_must_exist_and_not_build_in_a_circle(tmp_path):
     assert r.returncode == 2 and "in a circle: c -> c" in r.stderr
 
 
-def test_a_run_that_is_not_the_declared_one_is_named(finished, tmp_path):
-    path, _, _ = finished
+def test_a_run_that_is_not_the_declared_one_is_named(finished_study, tmp_path):
+    path, _, _ = finished_study
     study = load_study(path)
     numpy = {"generations = 4": 'generations = 4\nengine = "numpy"'}
-    other = example(tmp_path, **numpy)
+    other = example_study(tmp_path, **numpy)
     text = other.read_text().replace(str(tmp_path / "runs"), str(study.root))
     other.write_text(text)
     r = run_cli("study", str(other), "--quiet")
@@ -412,7 +271,7 @@ def test_a_run_that_is_not_the_declared_one_is_named(finished, tmp_path):
 
 
 def test_a_missing_or_unfinished_run_stops_the_table(tmp_path):
-    r = run_cli("study", str(example(tmp_path)), "--table")
+    r = run_cli("study", str(example_study(tmp_path)), "--table")
     assert r.returncode == 2 and "not finished" in r.stderr
     assert not (tmp_path / "runs").exists()
 
@@ -424,9 +283,9 @@ def test_the_example_can_be_copied_elsewhere(tmp_path):
     assert study.root == Path("runs/studies/example") and study.out == study.root
 
 
-def test_on_ray_the_runs_are_the_same_bit_for_bit(finished, local_ray, tmp_path):
-    path, _, _ = finished
-    mine = example(tmp_path, **{'seeds = "0-4"': 'seeds = "2"'})
+def test_on_ray_the_runs_are_the_same_bit_for_bit(finished_study, local_ray, tmp_path):
+    path, _, _ = finished_study
+    mine = example_study(tmp_path, **{'seeds = "0-4"': 'seeds = "2"'})
     r = run_cli("study", str(mine), "--quiet", "--backend", "ray", "--actors", "2")
     assert r.returncode == 0, r.stderr
     for arm in ("rcga", "random"):
