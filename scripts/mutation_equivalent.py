@@ -133,7 +133,29 @@ def _cast(
     }
 
 
+_STRIDE_SEEDED = (
+    "the default is never read: a terrain_stride is refused for a scene without "
+    "a seed field (_stride), and config() reads the seed only with a stride"
+)
+
 EQUIVALENT: dict[str, tuple[str, str]] = {
+    "locustjump.runs.studyarms.x__template__mutmut_9": (
+        "text.format(seed=1)",
+        "a template's fields fail to format whatever integer the seed is; 0 is "
+        "as good as 1 (the test with a format spec kills seed=None)",
+    ),
+    "locustjump.runs.studyarms.xǁArmǁconfig__mutmut_9": (
+        'getattr(t.scene, "seed", None)',
+        _STRIDE_SEEDED,
+    ),
+    "locustjump.runs.studyarms.xǁArmǁconfig__mutmut_12": (
+        'getattr(t.scene, "seed", )',
+        _STRIDE_SEEDED,
+    ),
+    "locustjump.runs.studyarms.xǁArmǁconfig__mutmut_15": (
+        'getattr(t.scene, "seed", 1)',
+        _STRIDE_SEEDED,
+    ),
     "locustjump.rundir.outputs.x_prepare_out_file__mutmut_22": (
         "setting) and not out.parent.is_dir()",
         "a parent that exists and is not a directory never gets here: looking "

@@ -83,6 +83,10 @@ MODULES: dict[str, tuple[str, ...]] = {
     # where a command writes: checked first, never a run's own files, nothing
     # half-made left
     "rundir/outputs.py": ("tests/test_outputs.py",),
+    # what a study file may say: every claim of a study rests on its arms,
+    # seeds, budgets and held-out terrains being the ones declared
+    "runs/studyfile.py": ("tests/test_studyfile.py", "tests/test_studyarms.py"),
+    "runs/studyarms.py": ("tests/test_studyarms.py", "tests/test_studyfile.py"),
 }
 
 #: modules of which only some functions are mutated (mutmut's name patterns):

@@ -51,7 +51,7 @@ class Arm:
         cfg = self.base.replace(seed=s)
         if self.terrain_stride:
             t = cfg.scene
-            seed = getattr(t.scene, "seed", 0)  # a scene of one terrain has none
+            seed = getattr(t.scene, "seed", 0)  # seeded: _stride saw to it
             first = t.scene.with_seed(seed + self.terrain_stride * s)
             cfg = cfg.replace(scene=dataclasses.replace(t, scene=first))
         return cfg
@@ -73,6 +73,17 @@ def _text(v: Any, key: str, src: str) -> str:
     if not isinstance(v, str) or not v.strip():
         raise UserError(f"{src}: {key} must be a non-empty string, got {v!r}")
     return v
+
+
+def _template(v: Any, key: str, where: str) -> str:
+    """A directory whose only field is ``{seed}`` (none is fine)."""
+    text = _text(v, key, where)
+    try:
+        text.format(seed=0)
+    except (KeyError, IndexError, ValueError, AttributeError, TypeError):
+        message = f"{where}: {key} {text!r}: the only field is {{seed}}"
+        raise UserError(message) from None
+    return text
 
 
 def _merged(base: dict[str, Any], over: dict[str, Any]) -> dict[str, Any]:
@@ -124,21 +135,12 @@ def parse_arms(d: Any, defaults: Any, root: Path, src: str) -> dict[str, Arm]:
             cfg,
             _frozen(own.get("frozen", {}), cfg, where),
             _bool(own.get("score", True), "score", where),
-            _text(own.get("path", str(root / name / "seed-{seed}")), "path", where),
+            _template(own.get("path", str(root / name / "seed-{seed}")), "path", where),
             _paths(own.get("paths", {}), where),
             fixed,
             _stride(own.get("terrain_stride", 0), cfg, where),
-            _text(own["extends"], "extends", where) if "extends" in own else None,
+            _template(own["extends"], "extends", where) if "extends" in own else None,
         )
-        for key, look in (("path", arms[name].run_dir),
-                          ("extends", arms[name].source_dir)):  # fmt: skip
-            try:
-                look(0)
-            except (KeyError, IndexError, ValueError):
-                raise UserError(
-                    f"{where}: {key} {own.get(key, arms[name].path)!r}: the only "
-                    "field is {seed}"
-                ) from None
     labelled: dict[str, str] = {}
     for a in arms.values():
         for b in a.frozen.values():
@@ -157,7 +159,7 @@ def _stride(v: Any, cfg: TrainConfig, where: str) -> int:
     if isinstance(v, bool) or not isinstance(v, int) or not 0 <= v < 2**31:
         raise UserError(f"{where}: terrain_stride must be an integer >= 0, got {v!r}")
     scene = cfg.scene.scene
-    if v and scene.with_seed(getattr(scene, "seed", 0) + 1) == scene:
+    if v and not scene.seeded:
         raise UserError(
             f"{where}: terrain_stride: the {scene.name} scene has no terrains to "
             "choose from"
@@ -183,7 +185,7 @@ def _paths(v: Any, where: str) -> dict[int, str]:
     for k, p in v.items():
         if not k.isdigit():
             raise UserError(f"{where}: paths: {k!r} is not a seed")
-        out[int(k)] = _text(p, f"paths.{k}", where)
+        out[int(k)] = _template(p, f"paths.{k}", where)
     return out
 
 

@@ -113,9 +113,10 @@ class Study:
         out, seen = [], set()
         for s in self.seeds:
             for a in self.arms.values():
-                if (a.name, a.seed_of(s)) not in seen:
-                    seen.add((a.name, a.seed_of(s)))
-                    out.append((a, a.seed_of(s)))
+                seed = a.seed_of(s)
+                if (a.name, seed) not in seen:
+                    seen.add((a.name, seed))
+                    out.append((a, seed))
         return out
 
 
@@ -140,7 +141,10 @@ def load_study(path: str | os.PathLike[str], seeds: str | None = None) -> Study:
     out = Path(_text(d.get("out", str(root)), "out", src))
     all_seeds = _seeds(d.get("seeds"), "seeds", src)
     if seeds is not None:
-        chosen = _seeds(seeds, setting_ref("seeds"), setting_ref("seeds"))
+        try:
+            chosen = parse_seeds(seeds)
+        except ValueError as e:
+            raise UserError(f"{setting_ref('seeds')}: {e}") from None
         extra = sorted(set(chosen) - set(all_seeds))
         if extra:
             raise UserError(
