@@ -139,6 +139,11 @@ _STRIDE_SEEDED = (
 )
 
 EQUIVALENT: dict[str, tuple[str, str]] = {
+    "locustjump.rundir.lock.x__take__mutmut_3": (
+        "range(LOOK_TRIES + 2)",
+        "the loop never runs out: its try number LOOK_TRIES raises InUse, so a "
+        "longer range is never reached",
+    ),
     "locustjump.runs.studyarms.x__template__mutmut_9": (
         "text.format(seed=1)",
         "a template's fields fail to format whatever integer the seed is; 0 is "

@@ -87,6 +87,9 @@ MODULES: dict[str, tuple[str, ...]] = {
     # seeds, budgets and held-out terrains being the ones declared
     "runs/studyfile.py": ("tests/test_studyfile.py", "tests/test_studyarms.py"),
     "runs/studyarms.py": ("tests/test_studyarms.py", "tests/test_studyfile.py"),
+    # one writer per directory: what keeps a run, a study's workers and a
+    # command's output from being written twice at once
+    "rundir/lock.py": ("tests/test_lock.py",),
 }
 
 #: modules of which only some functions are mutated (mutmut's name patterns):
