@@ -6,8 +6,10 @@ not only between processes); ``tests/test_writers.py`` tries other processes."""
 
 import contextlib
 import fcntl
+import io
 import os
 from pathlib import Path
+from types import SimpleNamespace
 
 import pytest
 
@@ -26,6 +28,12 @@ def held(d: Path):
         yield fd
     finally:
         os.close(fd)
+
+
+def patch_os(monkeypatch, **names) -> None:
+    """``lock``'s view of ``os`` with ``names`` replaced, the module itself
+    untouched (other threads of the test process go on using it)."""
+    monkeypatch.setattr(lock, "os", SimpleNamespace(**{**vars(os), **names}))
 
 
 def message(d: Path, who: str) -> str:
@@ -58,18 +66,15 @@ def test_a_directory_no_one_holds_has_no_holder(tmp_path):
 
 
 def _proc_locks(monkeypatch, lines) -> None:
-    real = open
+    """``lock``'s ``/proc/locks`` holds ``lines`` (or cannot be read)."""
 
     def fake(path, *a, **kw):
-        if path == "/proc/locks":
-            if isinstance(lines, Exception):
-                raise lines
-            import io
+        assert path == "/proc/locks"
+        if isinstance(lines, Exception):
+            raise lines
+        return io.StringIO("".join(line + "\n" for line in lines))
 
-            return io.StringIO("".join(line + "\n" for line in lines))
-        return real(path, *a, **kw)
-
-    monkeypatch.setattr("builtins.open", fake)
+    monkeypatch.setattr(lock, "open", fake, raising=False)  # over the builtin
 
 
 def _dev(fd: int) -> str:
@@ -106,11 +111,12 @@ def test_proc_locks_is_read_line_by_line(tmp_path, monkeypatch):
 def test_the_device_and_inode_are_as_proc_locks_writes_them(tmp_path, monkeypatch):
     """``MAJOR:MINOR:INODE``, the device numbers in hex of two digits at least."""
     inode = 1234567
-    monkeypatch.setattr(
-        lock.os, "fstat", lambda fd: os.stat_result((0, inode) + (0,) * 8)
+    patch_os(
+        monkeypatch,
+        fstat=lambda fd: os.stat_result((0, inode) + (0,) * 8),
+        major=lambda dev: 0x8,
+        minor=lambda dev: 0x1F3,
     )
-    monkeypatch.setattr(lock.os, "major", lambda dev: 0x8)
-    monkeypatch.setattr(lock.os, "minor", lambda dev: 0x1F3)
     _proc_locks(monkeypatch, [f"1: FLOCK  ADVISORY  WRITE 9 08:1f3:{inode} 0 EOF"])
     assert lock._holder(3) == 9
     _proc_locks(monkeypatch, [f"1: FLOCK  ADVISORY  WRITE 9 8:1f3:{inode} 0 EOF"])
@@ -140,15 +146,19 @@ def test_a_look_is_waited_out_a_writer_is_not(tmp_path, monkeypatch):
         if len(slept) == lock.LOOK_TRIES:  # released just before the last try
             os.close(fd_box.pop())
 
-    monkeypatch.setattr(lock.time, "sleep", sleep)
+    monkeypatch.setattr(lock, "time", SimpleNamespace(sleep=sleep))
     fd = os.open(tmp_path, os.O_RDONLY | os.O_DIRECTORY)
     fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
     fd_box.append(fd)
-    with locked(tmp_path):
-        assert in_use(tmp_path) is None  # this process's own
+    try:
+        with locked(tmp_path):
+            assert in_use(tmp_path) is None  # this process's own
+    finally:
+        for left in fd_box:  # not released: the lock was not taken
+            os.close(left)
     assert slept == [0.005] * lock.LOOK_TRIES and lock.LOOK_TRIES == 10
     slept.clear()
-    monkeypatch.setattr(lock.time, "sleep", slept.append)
+    monkeypatch.setattr(lock, "time", SimpleNamespace(sleep=slept.append))
     with held(tmp_path), pytest.raises(InUse), locked(tmp_path):
         pass
     assert slept == [0.005] * lock.LOOK_TRIES  # then it gives up
@@ -164,7 +174,9 @@ def test_a_directory_that_cannot_be_locked(tmp_path, monkeypatch):
     def no_locks(fd, op):
         raise OSError(37, "No locks available")
 
-    monkeypatch.setattr(lock.fcntl, "flock", no_locks)
+    flocks = SimpleNamespace(**vars(fcntl))
+    monkeypatch.setattr(lock, "fcntl", flocks)
+    flocks.flock = no_locks
     assert user_error(lambda: locked(tmp_path).__enter__()) == (
         f"{tmp_path}: cannot be locked (No locks available)"
     )
@@ -173,7 +185,7 @@ def test_a_directory_that_cannot_be_locked(tmp_path, monkeypatch):
     def no_errno(fd, op):
         raise OSError("no errno")
 
-    monkeypatch.setattr(lock.fcntl, "flock", no_errno)
+    flocks.flock = no_errno
     assert user_error(lambda: locked(tmp_path).__enter__()) == (
         f"{tmp_path}: cannot be locked (no errno)"
     )
@@ -188,7 +200,7 @@ def test_a_file_is_not_a_directory_to_lock_or_look_at(tmp_path, monkeypatch):
     )
     opened: list[str] = []
     real = os.open
-    monkeypatch.setattr(lock.os, "open", lambda p, *a: opened.append(p) or real(p, *a))
+    patch_os(monkeypatch, open=lambda p, *a: opened.append(p) or real(p, *a))
     assert in_use(tmp_path / "none") is None and opened == []  # not even opened
 
 
@@ -199,7 +211,8 @@ def test_a_directory_replaced_by_a_file_is_not_looked_at(tmp_path, monkeypatch):
     fd = os.open(f, os.O_RDONLY)
     try:
         fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        monkeypatch.setattr(Path, "is_dir", lambda self: True)
+        real = Path.is_dir
+        monkeypatch.setattr(Path, "is_dir", lambda self: self == f or real(self))
         assert in_use(f) is None
     finally:
         os.close(fd)
@@ -209,7 +222,7 @@ def test_a_directory_that_cannot_be_opened_to_look_at(tmp_path, monkeypatch):
     def refuse(path, flags):
         raise PermissionError(13, "Permission denied")
 
-    monkeypatch.setattr(lock.os, "open", refuse)
+    patch_os(monkeypatch, open=refuse)
     assert in_use(tmp_path) is None
 
 

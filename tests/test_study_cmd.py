@@ -265,9 +265,11 @@ def test_a_run_that_is_not_the_declared_one_is_named(finished_study, tmp_path):
     other = example_study(tmp_path, **numpy)
     text = other.read_text().replace(str(tmp_path / "runs"), str(study.root))
     other.write_text(text)
+    before = tree_snapshot(study.root)  # other test files share these runs
     r = run_cli("study", str(other), "--quiet")
     assert r.returncode == 2
     assert "not the run" in r.stderr and "engine differ" in r.stderr
+    assert tree_snapshot(study.root) == before
 
 
 def test_a_missing_or_unfinished_run_stops_the_table(tmp_path):

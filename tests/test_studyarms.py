@@ -135,14 +135,15 @@ def test_a_fixed_seed_of_an_arm_that_is_not_scored():
 @pytest.mark.parametrize(
     "key, value",
     [("path", "x/{sed}"), ("path", "x/{0}"), ("path", "x/{"), ("path", "{seed.real.x}"),
-     ("path", "{seed[0]}"), ("path", "{seed:s}"), ("extends", "y/{seed}/{n}"),
+     ("path", "{seed[0]}"), ("path", "{seed:s}"), ("path", "r/{seed:c}"),
+     ("extends", "y/{seed}/{n}"),
      ("extends", "{"), ("paths.3", "{}")],
 )  # fmt: skip
 def test_a_path_template_has_only_the_seed(key, value):
     """A run's directory, the run it extends and a single seed's directory."""
     table = {"paths": {"3": value}} if key == "paths.3" else {key: value}
     assert refused({"a": table}) == (
-        f"{SRC} [arms.a]: {key} {value!r}: the only field is {{seed}}"
+        f"{SRC} [arms.a]: {key} {value!r}: the only field is {{seed}}, an integer"
     )
 
 

@@ -281,3 +281,31 @@ score = false
         ("kick", 1), ("legs", 1), ("composed", 1),
     ]  # fmt: skip
     assert [a.name for a in s.scored] == ["composed"]
+
+
+def test_two_runs_of_one_directory_are_refused(tmp_path):
+    path = tmp_path / "s.toml"
+    text = BASE.replace("[arms.a]", '[arms.a]\npath = "same"')
+    path.write_text(text.replace("[arms.b]", '[arms.b]\npath = "same"'))
+    assert user_error(load_study, path) == (
+        f"{path}: arm 'b', seed 0 and arm 'a', seed 0 are one directory (same): "
+        "each run needs its own"
+    )
+    text = BASE.replace("[arms.a]", '[arms.a]\npath = "./x/../a-{seed}"')
+    path.write_text(text.replace("[arms.b]", '[arms.b]\npaths = { "1" = "a-0" }'))
+    assert user_error(load_study, path) == (
+        f"{path}: arm 'b', seed 1 and arm 'a', seed 0 are one directory (a-0): "
+        "each run needs its own"
+    )
+    path.write_text(BASE.replace("[arms.a]", '[arms.a]\npath = "a"'))  # per seed?
+    assert user_error(load_study, path).endswith(
+        "arm 'a', seed 1 and arm 'a', seed 0 are one directory (a): each run "
+        "needs its own"
+    )
+
+
+def test_an_arm_of_a_fixed_seed_is_one_run_for_every_seed(tmp_path):
+    path = tmp_path / "s.toml"
+    path.write_text(BASE + '[arms.c]\nscore = false\nseed = 5\npath = "c"\n')
+    s = load_study(path)
+    assert s.arms["c"].run_dir(0) == s.arms["c"].run_dir(1) == Path("c")

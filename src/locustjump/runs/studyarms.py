@@ -13,6 +13,7 @@ from pathlib import Path
 from typing import Any
 
 from locustjump.errors import UserError
+from locustjump.ranges import INT64_MAX
 from locustjump.rundir.config import TrainConfig
 from locustjump.rundir.migrations import CONFIG_FORMAT
 from locustjump.tasks import behaviour_class
@@ -76,12 +77,15 @@ def _text(v: Any, key: str, src: str) -> str:
 
 
 def _template(v: Any, key: str, where: str) -> str:
-    """A directory whose only field is ``{seed}`` (none is fine)."""
+    """A directory whose only field is ``{seed}`` (none is fine), formatted
+    as any seed can be: the least and the largest are tried."""
     text = _text(v, key, where)
     try:
-        text.format(seed=0)
-    except (KeyError, IndexError, ValueError, AttributeError, TypeError):
-        message = f"{where}: {key} {text!r}: the only field is {{seed}}"
+        for seed in (0, INT64_MAX):
+            text.format(seed=seed)
+    except (KeyError, IndexError, ValueError, AttributeError, TypeError,
+            OverflowError):  # fmt: skip
+        message = f"{where}: {key} {text!r}: the only field is {{seed}}, an integer"
         raise UserError(message) from None
     return text
 

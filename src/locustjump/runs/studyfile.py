@@ -176,6 +176,7 @@ def load_study(path: str | os.PathLike[str], seeds: str | None = None) -> Study:
         raise UserError(f"{src}: no arm is scored (every arm says score = false)")
     evaluation = _evaluation(d.get("evaluation", {}), src)
     _held_out(arms, all_seeds, evaluation, src)
+    _own_directories(arms, all_seeds, src)
     return Study(
         name, path, root, out, all_seeds, currency,
         margin, reference, evaluation, arms, flat_gain,
@@ -197,6 +198,21 @@ def _held_out(
                 raise UserError(
                     f"{src}: evaluation terrain {min(seen)} is a training terrain "
                     f"of arm {arm.name!r}, seed {s}: held-out terrains must be unseen"
+                )
+
+
+def _own_directories(arms: dict[str, Arm], seeds: tuple[int, ...], src: str) -> None:
+    """``UserError`` if two runs of the study are one directory."""
+    runs: dict[str, tuple[str, int]] = {}
+    for s in seeds:
+        for arm in arms.values():
+            run = (arm.name, arm.seed_of(s))
+            first = runs.setdefault(os.path.abspath(arm.run_dir(s)), run)
+            if first != run:
+                raise UserError(
+                    f"{src}: arm {run[0]!r}, seed {run[1]} and arm {first[0]!r}, "
+                    f"seed {first[1]} are one directory ({arm.run_dir(s)}): each "
+                    "run needs its own"
                 )
 
 
