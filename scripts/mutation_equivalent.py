@@ -144,10 +144,10 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
         "the loop never runs out: its try number LOOK_TRIES raises InUse, so a "
         "longer range is never reached",
     ),
-    "locustjump.runs.studyarms.x__template__mutmut_9": (
-        "text.format(seed=1)",
-        "a template's fields fail to format whatever integer the seed is; 0 is "
-        "as good as 1 (the test with a format spec kills seed=None)",
+    "locustjump.runs.studyarms.x__template__mutmut_8": (
+        "for seed in (1, INT64_MAX):",
+        "no integer format spec formats 0 and fails on 1, or the other way; "
+        "the largest seed is the one that can fail ({seed:c} overflows)",
     ),
     "locustjump.runs.studyarms.xǁArmǁconfig__mutmut_9": (
         'getattr(t.scene, "seed", None)',
