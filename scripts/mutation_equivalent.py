@@ -1,44 +1,11 @@
 """The equivalent mutants of scripts/mutation.py's modules: mutants that no
 test can tell from the original, each with the reason (docs/mutation.md lists
-them from here)."""
+them from here): the optimizers' in ``scripts/mutation_equivalent_evo.py``,
+the rest here."""
 
-_TIE = (
-    "differs only when a uniform draw in [0, 1) equals the threshold exactly "
-    "(probability 2**-53 a draw); both read 'with probability p' correctly"
-)
-_EINSUM = "einsum's subscripts are labels: upper case names the same sum"
-_GEN0 = (
-    "at generation 0 the population and its fitness are empty, so the first "
-    "e rows of them are empty whatever e is"
-)
-_UNIQUE_CELLS = (
-    "an archive's cells are distinct (Archive checks it), so every sort of "
-    "them gives the same order, stable or not"
-)
-_PER_EMITTER = (
-    "one entry per emitter each by construction: the first genomes are split "
-    "by batch_sizes() (one size per emitter) and _start draws one seed per "
-    "emitter, so zip's strictness is never tested"
-)
-_RIBS_DEFAULT = (
-    "the argument left out is pyribs 0.12's default for EvolutionStrategyEmitter "
-    "(checked with inspect.signature); it is written out so that another "
-    "default cannot change CMA-ME, and tests/test_qd_params.py checks the "
-    "emitter's ranker, strategy and rules"
-)
-_FLOATS_ASK = "pyribs asks float64 arrays, and Optimizer.ask converts to float64 anyway"
-_INT64 = (
-    "np.full of a Python int is int64 (the default integer on Linux with "
-    "NumPy 1 or 2, on every platform with NumPy 2), and pyribs stores the "
-    "field as the int64 it was declared"
-)
-_RIBS_FLOATS = (
-    "pyribs' GridArchive stores solutions, objectives and measures as float64 "
-    "(its default dtype) and the generation field as the declared int64"
-)
-_REPLAY_M = (
-    "each replayed row goes through tell, whose check_descriptors makes it float64"
-)
+from mutation_equivalent_evo import EVO
+from mutation_reasons import SORT_CASE, ZIP, cast, zip_strict
+
 _EDGES_FLOAT = "the edges are compared with 1 and -1, which floats hold exactly"
 _RISE_FALL = (
     "the stretch mask is padded with 0 at both ends, so it has as many rises "
@@ -53,10 +20,6 @@ _COUNT_FLOAT = (
     "the window sums of 0s and 1s are whole numbers, exact in floats, and "
     "compared with n exactly"
 )
-_SORT_CASE = (
-    "NumPy reads the sort kind case-insensitively (checked: the same order as "
-    "'stable' where the default sort differs)"
-)
 _NOT_1D = "any k below 0 is refused by the same check (0 <= k)"
 _NO_KIND_X = "NumPy has no dtype kind 'X': only 'i' and 'u' can match either way"
 _RESHAPE_NEG = (
@@ -68,21 +31,6 @@ _DIMS_INT = (
     "with NumPy 1 or 2, on every platform with NumPy 2)"
 )
 _TEMPLATE = "a type template for coerce: only its type is read"
-_ZIP = (
-    "the lengths were compared just above: a row (or array) of another "
-    "length has already raised"
-)
-_FLOATS = "pycma asks float64 arrays, and Optimizer.ask converts to float64 anyway"
-_REPLAY = "each replayed row goes through tell, whose check_fitness makes it float64"
-_CASE = (
-    "pycma matches option names case-insensitively (checked: {'POPSIZE': "
-    "12} gives popsize 12)"
-)
-_SILENT = (
-    "at verbose -9 (or below) pycma neither displays nor logs, whatever "
-    "verb_disp and verb_log say (tests/test_cma_contract.py: no output, no "
-    "file)"
-)
 _PLACEHOLDER = (
     "a placeholder: the Comparison is replaced by one with verdict(c) before "
     "it is returned, and verdict reads no verdict"
@@ -92,9 +40,6 @@ _BOUNDS = (
     "is infinite' and 'both are' are the same test on every Comparison "
     "compare_samples makes"
 )
-#: mutant name -> (text of its mutated line, as mutmut's diff shows it,
-#: without indentation; why no test can tell it from the original); matched
-#: by function and text (:func:`listed`)
 _INF_CASE = "float() reads 'INF' as it reads 'inf'"
 _FLOAT_BEST = (
     "the best column is read from metrics.csv as float64; an integer curve "
@@ -105,40 +50,13 @@ _UPPER_F = (
     "largest of finite episode values; an unstable episode's are made "
     "finite) never is"
 )
-
-
-def _zip_strict(
-    function: str, numbers: tuple[int, int, int], args: str, why: str
-) -> dict[str, tuple[str, str]]:
-    """The three mutants of ``zip(ARGS, strict=True)`` in ``function`` (their
-    numbers in order: strict=None, the argument dropped, strict=False), which
-    are equivalent where the lengths zipped cannot differ (``why``)."""
-    texts = ("strict=None", f"zip({args}, )", "strict=False")
-    return {
-        f"{function}__mutmut_{n}": (text, why)
-        for n, text in zip(numbers, texts, strict=True)
-    }
-
-
-def _cast(
-    function: str, numbers: tuple[int, int], dropped: str, why: str
-) -> dict[str, tuple[str, str]]:
-    """The two mutants of a ``dtype=`` cast in ``function`` (their numbers in
-    order: ``dtype=None``, then the dtype dropped, whose mutated text is
-    ``dropped``), equivalent where the data already has that type (``why``)."""
-    texts = ("dtype=None", dropped)
-    return {
-        f"{function}__mutmut_{n}": (text, why)
-        for n, text in zip(numbers, texts, strict=True)
-    }
-
-
 _STRIDE_SEEDED = (
     "the default is never read: a terrain_stride is refused for a scene without "
     "a seed field (_stride), and config() reads the seed only with a stride"
 )
 
 EQUIVALENT: dict[str, tuple[str, str]] = {
+    **EVO,
     "locustjump.rundir.lock.x__take__mutmut_3": (
         "range(LOOK_TRIES + 2)",
         "the loop never runs out: its try number LOOK_TRIES raises InUse, so a "
@@ -201,45 +119,6 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
         "parsing refuses with the same words: only whether the parser runs "
         "differs",
     ),
-    "locustjump.evo.rcga.x_sbx__mutmut_10": (
-        "+ u < 0.5,",
-        "at u = 0.5 both branches give beta = 1",
-    ),
-    "locustjump.evo.rcga.x_sbx__mutmut_38": ("<= 0.5, 1.0, -1.0)", _TIE),
-    "locustjump.evo.rcga.x_gaussian_mutation__mutmut_3": ("<= rate", _TIE),
-    "locustjump.evo.rcga.xǁRCGAǁ_children__mutmut_52": ("> p.crossover_rate", _TIE),
-    "locustjump.evo.rcga.x_undx__mutmut_16": ('+ dn2 = np.einsum("IJ,IJ->I"', _EINSUM),
-    "locustjump.evo.rcga.x_undx__mutmut_39": ('np.einsum("IJ,IJ->I", rel', _EINSUM),
-    "locustjump.evo.rcga.x_undx__mutmut_80": ('np.einsum("IJ,IJ->I", eta', _EINSUM),
-    "locustjump.evo.rcga.x_undx__mutmut_26": (
-        "+ safe = np.where(dn2 > 0, dn2, 2.0)",
-        "where dn2 = 0 the parents coincide, d = 0, and what is divided by "
-        "safe is multiplied by d = 0",
-    ),
-    "locustjump.evo.rcga.x_undx__mutmut_62": (
-        "rng.normal(0.0, size=(n, P))",
-        "normal's scale is 1.0 by default",
-    ),
-    "locustjump.evo.rcga.x_tournament__mutmut_5": (
-        "rng.integers(fitness.shape[0], size=(n, k))",
-        "integers(high) draws from [0, high): the same numbers from the same "
-        "generator (checked)",
-    ),
-    "locustjump.evo.rcga.xǁRCGAǁ__init____mutmut_40": (
-        "np.array(init, dtype=None)",
-        "Optimizer.ask converts what _ask returns to float64",
-    ),
-    "locustjump.evo.rcga.xǁRCGAǁ__init____mutmut_42": (
-        "np.array(init, )",
-        "Optimizer.ask converts what _ask returns to float64",
-    ),
-    "locustjump.evo.rcga.xǁRCGAǁ_tell__mutmut_3": ("or True else 0", _GEN0),
-    "locustjump.evo.rcga.xǁRCGAǁ_tell__mutmut_4": (
-        "self.generation >= 0 else 0",
-        _GEN0,
-    ),
-    "locustjump.evo.rcga.xǁRCGAǁ_tell__mutmut_6": ("self.generation > 0 else 1", _GEN0),
-    "locustjump.evo.rcga.xǁRCGAǁ_tell__mutmut_18": ('kind="STABLE"', _SORT_CASE),
     "locustjump.rundir.metrics.x_read_metrics__mutmut_10": (
         "if (rows) or True else",
         "np.array([], dtype) is the same empty array as np.zeros(0, dtype)",
@@ -279,14 +158,6 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
         "out=obs[:, 6:10]",
         "obs has 9 columns: a slice to 10 ends at 9 as well",
     ),
-    "locustjump.evo.base.xǁOptimizerǁ__init____mutmut_10": (
-        "Range(1, integer=True)",
-        "Range's hi defaults to None (no upper bound): the same range",
-    ),
-    "locustjump.evo.base.x_check_fitness__mutmut_8": (
-        ".reshape(-2)",
-        "NumPy reads any negative size in reshape as 'the rest' (checked)",
-    ),
     "locustjump.tasks.getup.x_getup_summary__mutmut_20": (
         "reached.argmax(axis=1), -2)",
         "the mark of 'never' is only compared with >= 0: -1 and -2 read the same",
@@ -298,27 +169,6 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
     "locustjump.tasks.base.xǁBehaviourǁfitness_terms__mutmut_27": (
         ".reshape(-2, k)",
         "NumPy reads any negative size in reshape as 'the rest' (checked)",
-    ),
-    "locustjump.evo.cma.xǁCMAESǁ_ask__mutmut_2": ("dtype=None)", _FLOATS),
-    "locustjump.evo.cma.xǁCMAESǁ_ask__mutmut_4": ("self.es.ask(), )", _FLOATS),
-    "locustjump.evo.cma.xǁCMAESǁ_set_state__mutmut_3": ("dtype=None)", _REPLAY),
-    "locustjump.evo.cma.xǁCMAESǁ_set_state__mutmut_5": (
-        '["fitness_history"], )',
-        _REPLAY,
-    ),
-    "locustjump.evo.cma.xǁCMAESǁ_start__mutmut_4": ('"POPSIZE"', _CASE),
-    "locustjump.evo.cma.xǁCMAESǁ_start__mutmut_6": ('"SEED"', _CASE),
-    "locustjump.evo.cma.xǁCMAESǁ_start__mutmut_8": ('"RANDN"', _CASE),
-    "locustjump.evo.cma.xǁCMAESǁ_start__mutmut_12": ('"VERBOSE"', _CASE),
-    "locustjump.evo.cma.xǁCMAESǁ_start__mutmut_16": ('"VERB_LOG"', _CASE),
-    "locustjump.evo.cma.xǁCMAESǁ_start__mutmut_19": ('"VERB_DISP"', _CASE),
-    "locustjump.evo.cma.xǁCMAESǁ_start__mutmut_14": ('"verbose": -10', _SILENT),
-    "locustjump.evo.cma.xǁCMAESǁ_start__mutmut_17": ('"verb_log": 1', _SILENT),
-    "locustjump.evo.cma.xǁCMAESǁ_start__mutmut_20": ('"verb_disp": 1', _SILENT),
-    "locustjump.evo.x_register__mutmut_23": (
-        'getattr(cls, "__abstractmethods__", )',
-        "every subclass of Optimizer (an abc.ABC) has __abstractmethods__, so "
-        "the default is never used",
     ),
     "locustjump.sim.actuation.x_apply_deltas__mutmut_30": (
         "(out is None) and False else out",
@@ -387,48 +237,6 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
         "reshape(terrains, -2, per_controller)",
         _RESHAPE_NEG,
     ),
-    "locustjump.evo.archive.xǁArchiveǁqd_score__mutmut_4": ("kind=None", _UNIQUE_CELLS),
-    "locustjump.evo.archive.xǁArchiveǁqd_score__mutmut_6": (
-        "np.argsort(self.index, )",
-        _UNIQUE_CELLS,
-    ),
-    "locustjump.evo.archive.xǁArchiveǁqd_score__mutmut_8": (
-        'kind="STABLE"',
-        _UNIQUE_CELLS,
-    ),
-    "locustjump.evo.archive.xǁArchiveǁin_cell_order__mutmut_3": (
-        "kind=None",
-        _UNIQUE_CELLS,
-    ),
-    "locustjump.evo.archive.xǁArchiveǁin_cell_order__mutmut_5": (
-        "np.argsort(self.index, )",
-        _UNIQUE_CELLS,
-    ),
-    "locustjump.evo.archive.xǁArchiveǁin_cell_order__mutmut_7": (
-        'kind="STABLE"',
-        _UNIQUE_CELLS,
-    ),
-    "locustjump.evo.cma_me.xǁCMAMEǁ_emitters__mutmut_15": (
-        'ranker="2imp"',
-        _RIBS_DEFAULT,
-    ),
-    "locustjump.evo.cma_me.xǁCMAMEǁ_emitters__mutmut_16": (
-        'es="cma_es"',
-        _RIBS_DEFAULT,
-    ),
-    "locustjump.evo.cma_me.xǁCMAMEǁ_emitters__mutmut_17": (
-        'selection_rule="filter"',
-        _RIBS_DEFAULT,
-    ),
-    "locustjump.evo.cma_me.xǁCMAMEǁ_emitters__mutmut_18": (
-        'restart_rule="no_improvement"',
-        _RIBS_DEFAULT,
-    ),
-    "locustjump.evo.qd.xǁQDOptimizerǁ_tell_described__mutmut_4": ("dtype=None", _INT64),
-    "locustjump.evo.qd.xǁQDOptimizerǁ_tell_described__mutmut_7": (
-        "self.generation + 1, )",
-        _INT64,
-    ),
     "locustjump.sim.analysis.x_find_jumps__mutmut_21": (
         "high.astype(None)",
         _EDGES_FLOAT,
@@ -445,7 +253,7 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
         "np.ones(n, )",
         _COUNT_FLOAT,
     ),
-    "locustjump.sim.analysis.x_ground_profile__mutmut_9": ('kind="STABLE"', _SORT_CASE),
+    "locustjump.sim.analysis.x_ground_profile__mutmut_9": ('kind="STABLE"', SORT_CASE),
     "locustjump.rundir.archive.x_read_archive__mutmut_122": ("else -2", _NOT_1D),
     "locustjump.rundir.archive.x_read_archive__mutmut_134": ('"XXiuXX"', _NO_KIND_X),
     # the four reshape(-1) of the reader's arrays, each mutated to -2
@@ -457,90 +265,24 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
         for n in (77, 85, 92, 99)
     },
     # zip(..., strict=True) mutated three ways where the lengths cannot differ
-    **_zip_strict(
-        "locustjump.rundir.metrics.x_parse_row", (10, 13, 14), "names, cells", _ZIP
+    **zip_strict(
+        "locustjump.rundir.metrics.x_parse_row", (10, 13, 14), "names, cells", ZIP
     ),
-    **_zip_strict(
-        "locustjump.rundir.config.x_coerce", (55, 58, 59), "value, default", _ZIP
+    **zip_strict(
+        "locustjump.rundir.config.x_coerce", (55, 58, 59), "value, default", ZIP
     ),
-    **_zip_strict(
-        "locustjump.evo.archive.xǁArchiveǁat_cell", (9, 12, 13), "cell, self.dims", _ZIP
-    ),
-    **_zip_strict(
-        "locustjump.evo.map_elites.xǁMapElitesǁ_emitters",
-        (38, 42, 43),
-        "starts, sizes, seeds",
-        _PER_EMITTER,
-    ),
-    **_zip_strict(
-        "locustjump.evo.map_elites.xǁMapElitesǁ_emitters",
-        (59, 63, 64),
-        "starts, sizes, seeds",
-        _PER_EMITTER,
-    ),
-    **_zip_strict(
-        "locustjump.evo.cma_me.xǁCMAMEǁ_emitters",
-        (32, 35, 36),
-        "p.batch_sizes(), seeds",
-        _PER_EMITTER,
-    ),
-    **_zip_strict(
-        "locustjump.evo.qd.xǁQDOptimizerǁ_set_state", (31, 34, 35), "f, m", _ZIP
-    ),
-    **_zip_strict(
+    **zip_strict(
         "locustjump.sim.analysis.x_find_jumps", (34, 37, 38), "starts, ends", _RISE_FALL
     ),
     # a cast mutated two ways (dtype=None, the dtype dropped) where the data
     # already has the type cast to
-    **_cast(
+    **cast(
         "locustjump.runs.learning.x_late_gain",
         (4, 6),
         "np.asarray(best, )",
         _FLOAT_BEST,
     ),
-    **_cast(
-        "locustjump.evo.qd.xǁQDOptimizerǁ_ask",
-        (2, 4),
-        "np.asarray(self._scheduler.ask(), )",
-        _FLOATS_ASK,
-    ),
-    **_cast(
-        "locustjump.evo.qd.xǁQDOptimizerǁarchive",
-        (40, 42),
-        'np.asarray(d["solution"], )',
-        _RIBS_FLOATS,
-    ),
-    **_cast(
-        "locustjump.evo.qd.xǁQDOptimizerǁarchive",
-        (46, 48),
-        'np.asarray(d["objective"], )',
-        _RIBS_FLOATS,
-    ),
-    **_cast(
-        "locustjump.evo.qd.xǁQDOptimizerǁarchive",
-        (52, 54),
-        'np.asarray(d["measures"], )',
-        _RIBS_FLOATS,
-    ),
-    **_cast(
-        "locustjump.evo.qd.xǁQDOptimizerǁarchive",
-        (58, 60),
-        'np.asarray(d["generation"], )',
-        _RIBS_FLOATS,
-    ),
-    **_cast(
-        "locustjump.evo.qd.xǁQDOptimizerǁ_set_state",
-        (13, 15),
-        'np.asarray(state["fitness_history"], )',
-        _REPLAY,
-    ),
-    **_cast(
-        "locustjump.evo.qd.xǁQDOptimizerǁ_set_state",
-        (20, 22),
-        'np.asarray(state["descriptor_history"], )',
-        _REPLAY_M,
-    ),
-    **_cast(
+    **cast(
         "locustjump.rundir.archive.x_write_archive",
         (33, 35),
         "np.array(a.dims, )",
