@@ -55,8 +55,21 @@ _STRIDE_SEEDED = (
     "a seed field (_stride), and config() reads the seed only with a stride"
 )
 
+_SAME_BEHAVIOUR = (
+    "episode_steps makes the behaviour it is not given from the same "
+    "configuration: the same counts, made twice (states passes it to save that)"
+)
+
 EQUIVALENT: dict[str, tuple[str, str]] = {
     **EVO,
+    "locustjump.runs.study.x_states__mutmut_20": (
+        "episode_steps(cfg, None)",
+        _SAME_BEHAVIOUR,
+    ),
+    "locustjump.runs.study.x_states__mutmut_22": (
+        "episode_steps(cfg, )",
+        _SAME_BEHAVIOUR,
+    ),
     "locustjump.rundir.lock.x__take__mutmut_3": (
         "range(LOOK_TRIES + 2)",
         "the loop never runs out: its try number LOOK_TRIES raises InUse, so a "

@@ -90,11 +90,32 @@ MODULES: dict[str, tuple[str, ...]] = {
     # one writer per directory: what keeps a run, a study's workers and a
     # command's output from being written twice at once
     "rundir/lock.py": ("tests/test_lock.py",),
+    # a study's runs: how far each is, and that each on disk is the declared one
+    "runs/study.py": ("tests/test_study_runs.py",),
 }
 
 #: modules of which only some functions are mutated (mutmut's name patterns):
 #: a task's fitness, not its episode set-up or its report
 FUNCTIONS: dict[str, tuple[str, ...]] = {
+    # the runs' states, costs and checks, not the training loop of the workers
+    # (tests/test_study_workers.py) nor the copying of a run to extend
+    "runs/study.py": (
+        "locustjump.runs.study.xǁRunStateǁ*",
+        *(
+            f"locustjump.runs.study.x_{f}__mutmut_*"
+            for f in (
+                "behaviour_for",
+                "episode_steps",
+                "score_steps",
+                "generations_done",
+                "states",
+                "check_run",
+                "_check_config",
+                "_differences",
+                "frozen_genomes",
+            )
+        ),
+    ),
     "tasks/kick.py": (
         "locustjump.tasks.kick.x_kick_fitness__mutmut_*",
         "locustjump.tasks.kick.x_takeoff__mutmut_*",
@@ -176,6 +197,7 @@ plain NumPy, and each run starts with an empty Numba cache
 
 #: what the functions of :data:`FUNCTIONS` are, in the table
 PART = {
+    "runs/study.py": "the runs' checks and costs",
     "runs/study_table.py": "the table",
     "runs/study_plan.py": "the forecast",
     "present/study_figure.py": "its rows",
