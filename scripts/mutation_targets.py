@@ -92,11 +92,15 @@ MODULES: dict[str, tuple[str, ...]] = {
     "rundir/lock.py": ("tests/test_lock.py",),
     # a study's runs: how far each is, and that each on disk is the declared one
     "runs/study.py": ("tests/test_study_runs.py",),
+    # the seeds a user asks for (--seeds, a study file's seeds)
+    "runs/multiseed.py": ("tests/test_seeds.py",),
 }
 
 #: modules of which only some functions are mutated (mutmut's name patterns):
 #: a task's fitness, not its episode set-up or its report
 FUNCTIONS: dict[str, tuple[str, ...]] = {
+    # the seeds' parser, not the reproduction over seeds (tests/test_multiseed.py)
+    "runs/multiseed.py": ("locustjump.runs.multiseed.x_parse_seeds__mutmut_*",),
     # the runs' states, costs and checks, not the training loop of the workers
     # (tests/test_study_workers.py) nor the copying of a run to extend
     "runs/study.py": (
@@ -198,6 +202,7 @@ plain NumPy, and each run starts with an empty Numba cache
 #: what the functions of :data:`FUNCTIONS` are, in the table
 PART = {
     "runs/study.py": "the runs' checks and costs",
+    "runs/multiseed.py": "the seeds' parser",
     "runs/study_table.py": "the table",
     "runs/study_plan.py": "the forecast",
     "present/study_figure.py": "its rows",
