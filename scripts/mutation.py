@@ -8,8 +8,9 @@ run) from the module's *focused* test files only, never
 the whole suite. A mutant no test notices is a behaviour no test states.
 
 Each module runs in its own scratch directory ``.mutation/<module>/``
-(``src``, ``tests`` and ``scripts`` linked, ``pyproject.toml`` with the module's
-``[tool.mutmut]``; mutmut copies and mutates under ``mutants/`` there).
+(``src``, ``tests``, ``scripts`` and ``results`` linked, ``pyproject.toml``
+with the module's ``[tool.mutmut]``; mutmut copies and mutates under
+``mutants/`` there).
 Numba's cache goes to a directory of that scratch run (``NUMBA_CACHE_DIR``),
 so compiled code cached from the checkout is never run in place of a mutant.
 
@@ -71,7 +72,8 @@ def prepare(module: str, fresh: bool) -> Path:
     if fresh and wd.exists():
         shutil.rmtree(wd)
     wd.mkdir(parents=True, exist_ok=True)
-    for name in ("src", "tests", "scripts"):  # a test may load a script
+    # a test may load a script, or read a shipped run
+    for name in ("src", "tests", "scripts", "results"):
         if not (wd / name).exists():
             (wd / name).symlink_to(ROOT / name)
     tests = ", ".join(json.dumps(t) for t in MODULES[module])
@@ -79,7 +81,7 @@ def prepare(module: str, fresh: bool) -> Path:
         (ROOT / "pyproject.toml").read_text()
         + "\n[tool.mutmut]\n"
         + 'source_paths = ["src"]\n'
-        + 'also_copy = ["scripts"]\n'
+        + 'also_copy = ["scripts", "results"]\n'
         + f'only_mutate = ["src/locustjump/{module}"]\n'
         + 'pytest_add_cli_args = ["-p", "no:cacheprovider"]\n'
         + f"pytest_add_cli_args_test_selection = [{tests}]\n"

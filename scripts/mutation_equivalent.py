@@ -60,8 +60,26 @@ _SAME_BEHAVIOUR = (
     "configuration: the same counts, made twice (states passes it to save that)"
 )
 
+_CAST = "typing.cast returns its value unchanged, whatever the type named"
+
 EQUIVALENT: dict[str, tuple[str, str]] = {
     **EVO,
+    **{
+        f"locustjump.present.compare.x_optimizer_label__mutmut_{n}": (text, _CAST)
+        for n, text in (
+            (7, "cast(None, params)"),
+            (11, 'cast("XXDataclassInstanceXX", params)'),
+            (12, 'cast("dataclassinstance", params)'),
+            (13, 'cast("DATACLASSINSTANCE", params)'),
+        )
+    },
+    **zip_strict(
+        "locustjump.present.compare.x_frozen_evaluations",
+        (15, 19, 20),
+        "frozen.behaviours, frozen.sources, frozen.hashes",
+        "FrozenGenomes.load checks that behaviours, sources and hashes hold one "
+        "name per genome each",
+    ),
     "locustjump.runs.study.x_states__mutmut_20": (
         "episode_steps(cfg, None)",
         _SAME_BEHAVIOUR,

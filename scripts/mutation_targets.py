@@ -94,11 +94,26 @@ MODULES: dict[str, tuple[str, ...]] = {
     "runs/study.py": ("tests/test_study_runs.py",),
     # the seeds a user asks for (--seeds, a study file's seeds)
     "runs/multiseed.py": ("tests/test_seeds.py",),
+    # `compare`: groups of runs, their budgets and the table of their tests
+    "present/compare.py": ("tests/test_compare_units.py", "tests/test_compare.py"),
 }
 
 #: modules of which only some functions are mutated (mutmut's name patterns):
 #: a task's fitness, not its episode set-up or its report
 FUNCTIONS: dict[str, tuple[str, ...]] = {
+    # the groups and the table, not the figure's drawing
+    "present/compare.py": tuple(
+        f"locustjump.present.compare.x_{f}__mutmut_*"
+        for f in (
+            "optimizer_label",
+            "scene_label",
+            "_key",
+            "frozen_evaluations",
+            "load_groups",
+            "table",
+            "_tests",
+        )
+    ),
     # the seeds' parser, not the reproduction over seeds (tests/test_multiseed.py)
     "runs/multiseed.py": ("locustjump.runs.multiseed.x_parse_seeds__mutmut_*",),
     # the runs' states, costs and checks, not the training loop of the workers
@@ -203,6 +218,7 @@ plain NumPy, and each run starts with an empty Numba cache
 PART = {
     "runs/study.py": "the runs' checks and costs",
     "runs/multiseed.py": "the seeds' parser",
+    "present/compare.py": "groups and table",
     "runs/study_table.py": "the table",
     "runs/study_plan.py": "the forecast",
     "present/study_figure.py": "its rows",

@@ -60,7 +60,8 @@ class Group:
     curves: tuple[tuple[np.ndarray, np.ndarray], ...]  # (evaluations, best so far)
 
     def quartiles(self) -> tuple[float, float, float]:
-        q = np.percentile(self.best, [25, 50, 75])
+        with np.errstate(invalid="ignore"):  # an infinite best: nan, said so
+            q = np.percentile(self.best, [25, 50, 75])
         return float(q[0]), float(q[1]), float(q[2])
 
 
@@ -95,8 +96,6 @@ def _key(cfg: TrainConfig, by: str) -> str:
         return " / ".join(_key(cfg, k) for k in by.split(","))
     if by == "optimizer":
         return optimizer_label(cfg.optimizer)
-    if by == "engine":
-        return cfg.engine
     if by == "scene":
         return scene_label(cfg.scene)
     return str(getattr(cfg, by))
