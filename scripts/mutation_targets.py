@@ -112,6 +112,7 @@ FUNCTIONS: dict[str, tuple[str, ...]] = {
             "load_groups",
             "table",
             "_tests",
+            "budget_note",
         )
     ),
     # the seeds' parser, not the reproduction over seeds (tests/test_multiseed.py)

@@ -13,8 +13,10 @@ from helpers import user_error
 from locustjump import rundir
 from locustjump.evo import params_class
 from locustjump.present.compare import (
+    BUDGET_TOLERANCE,
     KEYS,
     Group,
+    budget_note,
     frozen_evaluations,
     load_groups,
     optimizer_label,
@@ -158,3 +160,18 @@ def test_the_budget_counts_the_frozen_runs_only_when_asked(tmp_path, monkeypatch
     (alone,) = load_groups([DEBRIS / "composed"])
     metrics = rundir.read_metrics(DEBRIS / "composed" / rundir.METRICS)
     assert alone.evaluations[0] == int(metrics["evaluations"].sum())
+
+
+def test_the_budget_note_flags_runs_of_unequal_budgets():
+    """Beyond 2 % apart (the study table's rule), largest over smallest run."""
+    same = [group("a", [1.0, 2.0], [1000, 1019]), group("b", [1.0, 2.0], 1010)]
+    assert budget_note(same) == "In genome evaluations: largest / smallest run 1.02."
+    assert BUDGET_TOLERANCE == 0.02
+    apart = [group("a", [1.0, 2.0], 1000), group("b", [1.0, 2.0], [1000, 1021])]
+    assert budget_note(apart) == (
+        "In genome evaluations: largest / smallest run 1.02 — **not equal**: the "
+        "runs are not compared at equal budget."
+    )
+    assert budget_note([group("a", [1.0], 0), group("b", [1.0], 5)]).startswith(
+        "In genome evaluations: largest / smallest run inf — **not equal**"
+    )

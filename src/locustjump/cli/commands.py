@@ -11,6 +11,7 @@ from locustjump.cli.resolve import resolve_config, scene_override, terrains_arg
 from locustjump.errors import UserError
 from locustjump.present.compare import (
     TOTAL_LABEL,
+    budget_note,
     convergence_figure,
     load_groups,
     table,
@@ -322,6 +323,7 @@ def cmd_compare(args: argparse.Namespace) -> int:
             xlabel = TOTAL_LABEL if args.total_budget else "genome evaluations"
             convergence_figure(groups, figure, title=args.title, xlabel=xlabel)
     print(text)
+    print(f"\n{budget_note(groups)}")
     if args.figure is not None:
         print(f"wrote {args.figure}")
     return 0

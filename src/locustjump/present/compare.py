@@ -47,6 +47,9 @@ TOTAL_LABEL = "genome evaluations, the frozen simple runs' included"
 KEYS = ("optimizer", "engine", "behaviour", "seed", "scene")
 #: ``margin``: of equivalence, in fitness units
 MARGIN = Range(0.0, lo_open=True)
+#: runs whose budgets differ by more than this (ratio) are flagged (a
+#: study's table flags its arms by it too)
+BUDGET_TOLERANCE = 0.02
 
 
 @dataclass(frozen=True)
@@ -238,6 +241,20 @@ def table(
             f"{' | '.join(_tests(g, ref, margin))} |"
         )
     return "\n".join(lines)
+
+
+def budget_note(groups: Sequence[Group]) -> str:
+    """Whether the runs compared spent the same: the largest number of genome
+    evaluations a run made over the smallest, flagged beyond
+    :data:`BUDGET_TOLERANCE` (a comparison at unequal budgets favours the
+    larger)."""
+    evals = np.concatenate([g.evaluations for g in groups])
+    lo, hi = int(evals.min()), int(evals.max())
+    ratio = hi / lo if lo else float("inf")
+    note = f"In genome evaluations: largest / smallest run {ratio:.2f}"
+    if ratio - 1 > BUDGET_TOLERANCE:
+        note += " — **not equal**: the runs are not compared at equal budget"
+    return note + "."
 
 
 def _tests(g: Group, ref: Group, margin: float | None) -> list[str]:

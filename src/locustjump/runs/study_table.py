@@ -35,7 +35,7 @@ import numpy as np
 
 from locustjump import rundir
 from locustjump.errors import UserError
-from locustjump.present.compare import Group, convergence_figure
+from locustjump.present.compare import BUDGET_TOLERANCE, Group, convergence_figure
 from locustjump.present.episodes import score_run
 from locustjump.present.stats import Comparison, compare_samples, pairs_table
 from locustjump.present.study_figure import (
@@ -61,8 +61,6 @@ SCORES_VERSION = 1
 TABLE_MD = "table.md"
 TABLE_JSON = "table.json"
 FIGURE = "learning.png"
-#: arms whose budgets differ by more than this (ratio) are flagged
-BUDGET_TOLERANCE = 0.02
 #: columns of the metrics that count a run's budget, per currency
 CURRENCY_COLUMN = {"evaluations": "evaluations", "control-steps": "control_steps"}
 
