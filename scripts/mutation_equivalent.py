@@ -41,6 +41,10 @@ _BOUNDS = (
     "compare_samples makes"
 )
 _INF_CASE = "float() reads 'INF' as it reads 'inf'"
+_NOT_AT_TOLERANCE = (
+    "no float ratio r has r - 1 == 0.02 exactly (r - 1 is exact near 1, and "
+    "1 + 0.02 is not a double), so > and >= never differ"
+)
 _FLOAT_BEST = (
     "the best column is read from metrics.csv as float64; an integer curve "
     "would give the same shares too"
@@ -259,8 +263,12 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
     ),
     "locustjump.runs.study_table.x__budget_note__mutmut_39": (
         ">= BUDGET_TOLERANCE",
-        "no float ratio r has r - 1 == 0.02 exactly (r - 1 is exact near 1, and "
-        "1 + 0.02 is not a double), so > and >= never differ",
+        _NOT_AT_TOLERANCE,
+    ),
+    "locustjump.present.compare.x_budget_note__mutmut_12": ('float("INF")', _INF_CASE),
+    "locustjump.present.compare.x_budget_note__mutmut_16": (
+        ">= BUDGET_TOLERANCE",
+        _NOT_AT_TOLERANCE,
     ),
     "locustjump.runs.study_table.x_make_table__mutmut_219": ("'.4F'", _UPPER_F),
     "locustjump.runs.study_table.x_make_table__mutmut_227": ("'.2F'", _UPPER_F),
