@@ -187,3 +187,18 @@ class Fixed(Optimizer):
 
     def _set_state(self, state):
         pass
+
+
+#: a study file's simple arms that a composed arm builds on (getup: one run,
+#: seed 5, for every seed of the study)
+SIMPLE_ARMS = """[arms.kick]
+behaviour = "kick"
+score = false
+[arms.getup]
+behaviour = "getup"
+score = false
+seed = 5
+[arms.legs]
+behaviour = "return-legs"
+score = false
+"""

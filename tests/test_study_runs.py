@@ -11,29 +11,22 @@ from pathlib import Path
 
 import pytest
 
-from helpers import user_error
+from helpers import SIMPLE_ARMS, user_error
 from locustjump import rundir
 from locustjump.runs import study as S
 from locustjump.runs.studyfile import load_study
 from locustjump.runs.trainer import train
 from locustjump.tasks import get_behaviour
 
-TEXT = """root = "{root}"
+TEXT = (
+    """root = "{root}"
 seeds = "0-1"
 [defaults]
 generations = 2
 optimizer = {{ population = 4 }}
-[arms.kick]
-behaviour = "kick"
-score = false
-[arms.getup]
-behaviour = "getup"
-score = false
-seed = 5
-[arms.legs]
-behaviour = "return-legs"
-score = false
-[arms.c]
+"""
+    + SIMPLE_ARMS
+    + """[arms.c]
 behaviour = "composed"
 generations = 1
 frozen = {{ kick = "kick", getup = "getup", return-legs = "legs" }}
@@ -41,6 +34,7 @@ frozen = {{ kick = "kick", getup = "getup", return-legs = "legs" }}
 terrain_seeds = "100-102"
 substeps = [3, 12]
 """
+)
 
 
 def study_file(root: Path, text: str = TEXT, **changes: str) -> Path:

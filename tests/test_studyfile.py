@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from helpers import user_error
+from helpers import SIMPLE_ARMS, user_error
 from locustjump.runs.studyfile import (
     MAX_SUBSTEPS,
     TOP_KEYS,
@@ -257,27 +257,20 @@ def test_a_flat_floor_has_no_terrain_to_hold_out(tmp_path):
 
 def test_the_runs_seed_by_seed_each_arm_after_those_it_builds_on(tmp_path):
     path = tmp_path / "s.toml"
-    path.write_text("""seeds = "3,1"
+    path.write_text(
+        """seeds = "3,1"
 [defaults]
 generations = 2
 optimizer = { population = 4 }
 [arms.composed]
 behaviour = "composed"
 frozen = { kick = "kick", getup = "getup", return-legs = "legs" }
-[arms.kick]
-behaviour = "kick"
-score = false
-[arms.getup]
-behaviour = "getup"
-score = false
-seed = 7
-[arms.legs]
-behaviour = "return-legs"
-score = false
-""")  # fmt: skip
+"""
+        + SIMPLE_ARMS
+    )
     s = load_study(path)
     assert [(a.name, seed) for a, seed in s.runs()] == [
-        ("kick", 3), ("getup", 7), ("legs", 3), ("composed", 3),
+        ("kick", 3), ("getup", 5), ("legs", 3), ("composed", 3),
         ("kick", 1), ("legs", 1), ("composed", 1),
     ]  # fmt: skip
     assert [a.name for a in s.scored] == ["composed"]
