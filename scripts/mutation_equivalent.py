@@ -294,6 +294,10 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
     ),
     "locustjump.sim.analysis.x_ground_profile__mutmut_9": ('kind="STABLE"', SORT_CASE),
     "locustjump.rundir.archive.x_read_archive__mutmut_122": ("else -2", _NOT_1D),
+    "locustjump.ranges.xǁRangeǁ__str____mutmut_5": (
+        '"XX[(XX"',
+        "an interval's text starts with [, (, > or <, never with X",
+    ),
     "locustjump.rundir.archive.x_read_archive__mutmut_134": ('"XXiuXX"', _NO_KIND_X),
     # the four reshape(-1) of the reader's arrays, each mutated to -2
     **{

@@ -96,6 +96,8 @@ MODULES: dict[str, tuple[str, ...]] = {
     "runs/multiseed.py": ("tests/test_seeds.py",),
     # `compare`: groups of runs, their budgets and the table of their tests
     "present/compare.py": ("tests/test_compare_units.py", "tests/test_compare.py"),
+    # every setting's range: what a command refuses, in one line, exit 2
+    "ranges.py": ("tests/test_ranges_units.py", "tests/test_ranges.py"),
 }
 
 #: modules of which only some functions are mutated (mutmut's name patterns):

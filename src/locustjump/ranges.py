@@ -178,16 +178,21 @@ class Range:
 
     def parse(self, name: str, text: str) -> Any:
         """A value given as text (an option's), checked; ``SettingError``
-        naming ``name`` (the option) if it is not one."""
-        if self.size is not None:
-            parts = text.split(",")
-        else:
-            parts = [text]
+        naming ``name`` (the option) if it is not one; for a sequence (numbers
+        separated by commas) the error quotes the text as given."""
+        number = int if self.integer else float
+        if self.size is None:
+            try:
+                value = number(text)
+            except ValueError:
+                raise SettingTypeError(name, str(self), text) from None
+            return self.check(name, value)
         try:
-            values = [int(t) if self.integer else float(t) for t in parts]
+            return self.check(name, [number(t) for t in text.split(",")])
+        except SettingError as e:
+            raise type(e)(name, e.expected, text) from None
         except ValueError:
             raise SettingTypeError(name, str(self), text) from None
-        return self.check(name, values if self.size is not None else values[0])
 
 
 @contextmanager
