@@ -336,12 +336,13 @@ def test_mujoco_warnings_go_to_the_log_not_into_the_working_directory(
 
 
 @pytest.mark.parametrize("command", [["train", "kick"], ["rules"], ["reproduce"]])
+@pytest.mark.parametrize("out", ["", " ", "a\0b"])  # no path holds a null byte
 def test_an_empty_out_is_refused_not_the_working_directory(
-    tmp_path, monkeypatch, capsys, command
+    tmp_path, monkeypatch, capsys, command, out
 ):
     monkeypatch.chdir(tmp_path)
     with pytest.raises(SystemExit) as e:
-        main([*command, "--out", ""])
+        main([*command, "--out", out])
     err = capsys.readouterr().err
-    assert e.value.code == 2 and "--out must be a path, got ''" in err
+    assert e.value.code == 2 and f"--out must be a path, got {out!r}" in err
     assert len(err.strip().splitlines()) == 1 and not any(tmp_path.iterdir())

@@ -82,7 +82,8 @@ def _terrain_seeds(text: str) -> list[int]:
 
 
 def out_path(text: str) -> str:
-    """An ``--out`` path: not empty (``''`` would be the working directory)."""
-    if not text.strip():
+    """An ``--out`` path: not empty (``''`` would be the working directory),
+    no null byte (which no path holds; only a caller of ``main`` can pass one)."""
+    if not text.strip() or "\0" in text:
         raise argparse.ArgumentTypeError(f"--out must be a path, got {text!r}")
     return text
