@@ -98,6 +98,8 @@ MODULES: dict[str, tuple[str, ...]] = {
     "present/compare.py": ("tests/test_compare_units.py", "tests/test_compare.py"),
     # every setting's range: what a command refuses, in one line, exit 2
     "ranges.py": ("tests/test_ranges_units.py", "tests/test_ranges.py"),
+    # the parser's argument types: each option's value, or its one-line error
+    "cli/argtypes.py": ("tests/test_argtypes.py",),
 }
 
 #: modules of which only some functions are mutated (mutmut's name patterns):
