@@ -100,6 +100,8 @@ MODULES: dict[str, tuple[str, ...]] = {
     "ranges.py": ("tests/test_ranges_units.py", "tests/test_ranges.py"),
     # the parser's argument types: each option's value, or its one-line error
     "cli/argtypes.py": ("tests/test_argtypes.py",),
+    # which elite of a repertoire `evaluate`, `render` and `view` play
+    "rundir/elites.py": ("tests/test_elites.py",),
 }
 
 #: modules of which only some functions are mutated (mutmut's name patterns):
