@@ -294,6 +294,14 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
     ),
     "locustjump.sim.analysis.x_ground_profile__mutmut_9": ('kind="STABLE"', SORT_CASE),
     "locustjump.rundir.archive.x_read_archive__mutmut_122": ("else -2", _NOT_1D),
+    # the setting's name given to the check is replaced by the re-raise's
+    **{
+        f"locustjump.tasks.options.xǁCommonOptionsǁ__post_init____mutmut_{n}": (
+            text,
+            "an error of the check is raised again under score_substeps",
+        )
+        for n, text in ((19, '"XXscore_substepsXX"'), (20, '"SCORE_SUBSTEPS"'))
+    },
     "locustjump.ranges.xǁRangeǁ__str____mutmut_5": (
         '"XX[(XX"',
         "an interval's text starts with [, (, > or <, never with X",

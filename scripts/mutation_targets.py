@@ -107,6 +107,9 @@ MODULES: dict[str, tuple[str, ...]] = {
         "tests/test_migrations_units.py",
         "tests/test_migrations.py",
     ),
+    # how every one-line error names its settings, and a behaviour's options
+    "errors.py": ("tests/test_errors.py",),
+    "tasks/options.py": ("tests/test_errors.py",),
 }
 
 #: modules of which only some functions are mutated (mutmut's name patterns):
