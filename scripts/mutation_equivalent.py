@@ -307,6 +307,11 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
         "an interval's text starts with [, (, > or <, never with X",
     ),
     "locustjump.rundir.archive.x_read_archive__mutmut_134": ('"XXiuXX"', _NO_KIND_X),
+    "locustjump.rundir.arrays.x_scalar__mutmut_13": ('"XXiuXX"', _NO_KIND_X),
+    "locustjump.rundir.arrays.x_plain__mutmut_4": (
+        '"XXbiufUXX"',
+        "NumPy has no dtype kind 'X': only 'b', 'i', 'u', 'f' and 'U' can match",
+    ),
     # the four reshape(-1) of the reader's arrays, each mutated to -2
     **{
         f"locustjump.rundir.archive.x_read_archive__mutmut_{n}": (

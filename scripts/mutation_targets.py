@@ -110,6 +110,9 @@ MODULES: dict[str, tuple[str, ...]] = {
     # how every one-line error names its settings, and a behaviour's options
     "errors.py": ("tests/test_errors.py",),
     "tasks/options.py": ("tests/test_errors.py",),
+    # a run's files written whole or not at all, its arrays read as written
+    "rundir/files.py": ("tests/test_rundir_files.py",),
+    "rundir/arrays.py": ("tests/test_rundir_files.py",),
 }
 
 #: modules of which only some functions are mutated (mutmut's name patterns):
