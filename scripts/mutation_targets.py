@@ -113,6 +113,8 @@ MODULES: dict[str, tuple[str, ...]] = {
     # a run's files written whole or not at all, its arrays read as written
     "rundir/files.py": ("tests/test_rundir_files.py",),
     "rundir/arrays.py": ("tests/test_rundir_files.py",),
+    # the creature's numbers: what follows from them, what is refused
+    "sim/params.py": ("tests/test_params.py",),
 }
 
 #: modules of which only some functions are mutated (mutmut's name patterns):
