@@ -302,6 +302,11 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
         )
         for n, text in ((19, '"XXscore_substepsXX"'), (20, '"SCORE_SUBSTEPS"'))
     },
+    "locustjump.sim.scene.xǁTerrainsǁ__post_init____mutmut_59": (
+        'getattr(self.scene, "seed", 1)',
+        "a scene without a seed holds 1 terrain (checked just before), whose "
+        "last seed, 0 or 1, is far from 2**63-1",
+    ),
     "locustjump.ranges.xǁRangeǁ__str____mutmut_5": (
         '"XX[(XX"',
         "an interval's text starts with [, (, > or <, never with X",

@@ -115,6 +115,9 @@ MODULES: dict[str, tuple[str, ...]] = {
     "rundir/arrays.py": ("tests/test_rundir_files.py",),
     # the creature's numbers: what follows from them, what is refused
     "sim/params.py": ("tests/test_params.py",),
+    # the terrains a genome is scored on, and how their fitness is combined
+    "sim/scene.py": ("tests/test_terrains.py",),
+    "sim/world.py": ("tests/test_terrains.py",),
 }
 
 #: modules of which only some functions are mutated (mutmut's name patterns):
