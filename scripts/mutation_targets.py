@@ -118,6 +118,8 @@ MODULES: dict[str, tuple[str, ...]] = {
     # the terrains a genome is scored on, and how their fitness is combined
     "sim/scene.py": ("tests/test_terrains.py",),
     "sim/world.py": ("tests/test_terrains.py",),
+    # what `evaluate` reports: the match with the record, the held-out gap
+    "present/evaluate.py": ("tests/test_evaluation_records.py",),
 }
 
 #: modules of which only some functions are mutated (mutmut's name patterns):
@@ -136,6 +138,12 @@ FUNCTIONS: dict[str, tuple[str, ...]] = {
             "_tests",
             "budget_note",
         )
+    ),
+    # the records and their JSON, not the re-simulation (tests/test_runs.py)
+    "present/evaluate.py": (
+        "locustjump.present.evaluate.xǁEvaluationǁ*",
+        "locustjump.present.evaluate.xǁTerrainEvaluationǁ*",
+        "locustjump.present.evaluate.x_plain__mutmut_*",
     ),
     # the seeds' parser, not the reproduction over seeds (tests/test_multiseed.py)
     "runs/multiseed.py": ("locustjump.runs.multiseed.x_parse_seeds__mutmut_*",),
@@ -241,6 +249,7 @@ plain NumPy, and each run starts with an empty Numba cache
 PART = {
     "runs/study.py": "the runs' checks and costs",
     "runs/multiseed.py": "the seeds' parser",
+    "present/evaluate.py": "its records",
     "present/compare.py": "groups and table",
     "runs/study_table.py": "the table",
     "runs/study_plan.py": "the forecast",
