@@ -307,6 +307,10 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
         "a scene without a seed holds 1 terrain (checked just before), whose "
         "last seed, 0 or 1, is far from 2**63-1",
     ),
+    "locustjump.rundir.layout.x_is_unstarted__mutmut_8": (
+        'name.rpartition(".")',
+        "frozen.npz, config.toml and metrics.csv hold one dot each: split alike",
+    ),
     "locustjump.ranges.xǁRangeǁ__str____mutmut_5": (
         '"XX[(XX"',
         "an interval's text starts with [, (, > or <, never with X",

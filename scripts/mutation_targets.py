@@ -120,6 +120,8 @@ MODULES: dict[str, tuple[str, ...]] = {
     "sim/world.py": ("tests/test_terrains.py",),
     # what `evaluate` reports: the match with the record, the held-out gap
     "present/evaluate.py": ("tests/test_evaluation_records.py",),
+    # what makes a directory a run (resume, refusals) and where derived files go
+    "rundir/layout.py": ("tests/test_layout.py",),
 }
 
 #: modules of which only some functions are mutated (mutmut's name patterns):
