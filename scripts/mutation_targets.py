@@ -122,6 +122,8 @@ MODULES: dict[str, tuple[str, ...]] = {
     "present/evaluate.py": ("tests/test_evaluation_records.py",),
     # what makes a directory a run (resume, refusals) and where derived files go
     "rundir/layout.py": ("tests/test_layout.py",),
+    # a run read back: its config, best genome and the frozen genomes it needs
+    "rundir/run.py": ("tests/test_run_files.py",),
 }
 
 #: modules of which only some functions are mutated (mutmut's name patterns):
