@@ -158,12 +158,15 @@ def listed(name: str, line: str) -> str | None:
     change to the function may move the number, not the text). The text is
     looked for in what the mutant writes (after ``+``), or in what it
     removes where it writes nothing, so that an entry for one change of a
-    line excuses no other change of it."""
+    line excuses no other change of it; or the whole line, for a change that
+    writes what many others do (an argument dropped before a closing ``)``)."""
     function = name.rpartition("__mutmut_")[0]
     _, plus, written = line.partition(" | + ")
     changed = plus.lstrip(" |") + written if plus else line
     for entry, (text, why) in EQUIVALENT.items():
-        if entry.rpartition("__mutmut_")[0] == function and text in changed:
+        if entry.rpartition("__mutmut_")[0] == function and (
+            text in changed or text == line
+        ):
             return why
     return None
 

@@ -31,6 +31,7 @@ _DIMS_INT = (
     "with NumPy 1 or 2, on every platform with NumPy 2)"
 )
 _TEMPLATE = "a type template for coerce: only its type is read"
+_BAR = "how the bar is drawn on a terminal, not what it says (tests write to a pipe)"
 _PLACEHOLDER = (
     "a placeholder: the Comparison is replaced by one with verdict(c) before "
     "it is returned, and verdict reads no verdict"
@@ -310,6 +311,28 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
     "locustjump.rundir.layout.x_is_unstarted__mutmut_8": (
         'name.rpartition(".")',
         "frozen.npz, config.toml and metrics.csv hold one dot each: split alike",
+    ),
+    # how tqdm draws the bar on a terminal (its width, when it redraws), not
+    # what it says; tests write to a pipe
+    **{
+        f"locustjump.runs.loop.xǁTrainerǁrun__mutmut_{n}": (text, _BAR)
+        for n, text in (
+            (11, "dynamic_ncols=None"),
+            (17, "- dynamic_ncols=True, | - ) | + )"),
+            (21, "dynamic_ncols=False"),
+            (129, "refresh=None"),
+            (133, "- refresh=False, | - ) | + )"),
+            (136, "refresh=True"),
+        )
+    },
+    "locustjump.runs.loop.xǁTrainerǁrun__mutmut_148": (
+        "failed = None",
+        "only read as 'not failed': None and False alike",
+    ),
+    "locustjump.runs.loop.xǁTrainerǁ__init____mutmut_8": (
+        'self.metrics_row = "XXXX"',
+        "read only without a checkpoint, at generation 0, whose row "
+        "truncate_metrics never writes, and for its commas: none in either",
     ),
     "locustjump.ranges.xǁRangeǁ__str____mutmut_5": (
         '"XX[(XX"',

@@ -124,6 +124,8 @@ MODULES: dict[str, tuple[str, ...]] = {
     "rundir/layout.py": ("tests/test_layout.py",),
     # a run read back: its config, best genome and the frozen genomes it needs
     "rundir/run.py": ("tests/test_run_files.py",),
+    # the training loop: a row, a best genome and a checkpoint each generation
+    "runs/loop.py": ("tests/test_loop.py",),
 }
 
 #: modules of which only some functions are mutated (mutmut's name patterns):

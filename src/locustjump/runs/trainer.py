@@ -18,6 +18,7 @@ import numpy as np
 from locustjump import rundir
 from locustjump.errors import UserError, setting_ref
 from locustjump.evo import Optimizer, make_optimizer
+from locustjump.ranges import INT64_MAX, Range
 from locustjump.rundir import FrozenGenomes
 from locustjump.rundir.config import TrainConfig
 from locustjump.runs.loop import Trainer as Trainer
@@ -34,6 +35,9 @@ if TYPE_CHECKING:
 
 #: the settings the errors here name (the command line prints its options)
 OUT, RESUME = setting_ref("out"), setting_ref("resume", True)
+#: ``stop_after``: generations of one call (a run stopped before its first has
+#: no best genome to return)
+STOP_AFTER = Range(1, INT64_MAX, integer=True)
 
 
 def train(
@@ -55,8 +59,8 @@ def train(
       resume: continue the run in ``out`` from its checkpoint.
       backend: where episodes run (default: a thread backend on every CPU).
       progress: show a progress bar (on stderr).
-      stop_after: stop after this many generations in this call (the run stays
-        resumable; used to test interruption).
+      stop_after: stop after this many generations in this call, at least 1
+        (the run stays resumable; used to test interruption).
       frozen: behaviours that build on other runs (composed): the frozen
         genomes of those runs (required for a new run; on resume, if given,
         they must be the run's own).
@@ -65,6 +69,8 @@ def train(
       The directory, the generations completed and the best genome.
     """
     out = Path(out)
+    if stop_after is not None:
+        STOP_AFTER.check("stop_after", stop_after)
     cls = behaviour_class(cfg.behaviour)
     if cls.requires and frozen is not None:
         if cfg.frozen_digest not in ("", frozen.digest):
