@@ -334,6 +334,27 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
         "read only without a checkpoint, at generation 0, whose row "
         "truncate_metrics never writes, and for its commas: none in either",
     ),
+    # a new run's metrics.csv: its header only (generation 0 reads no row)
+    **{
+        f"locustjump.runs.trainer.x__create__mutmut_{n}": (
+            text,
+            "truncate_metrics reads the checkpoint's row only beyond generation 0",
+        )
+        for n, text in ((11, "0, None, run.diagnostics"), (19, '0, "XXXX", run'))
+    },
+    "locustjump.runs.trainer.x__check_new__mutmut_34": (
+        "frozen is not None or cls.requires",
+        "a behaviour built on no run ignores the genomes given (get_behaviour)",
+    ),
+    "locustjump.runs.trainer.x__check_new__mutmut_62": (
+        "lm.load_model(cfg.model, )",
+        "a rollout's memory counts the creature's records and MuJoCo's arena, "
+        "the same in every scene here (checked on the debris field)",
+    ),
+    "locustjump.runs.trainer.x_train__mutmut_59": (
+        "_check_new(out, cfg, cls, frozen, None)",
+        "the second check's Trainer is thrown away: only what it refuses counts",
+    ),
     "locustjump.ranges.xǁRangeǁ__str____mutmut_5": (
         '"XX[(XX"',
         "an interval's text starts with [, (, > or <, never with X",

@@ -126,6 +126,8 @@ MODULES: dict[str, tuple[str, ...]] = {
     "rundir/run.py": ("tests/test_run_files.py",),
     # the training loop: a row, a best genome and a checkpoint each generation
     "runs/loop.py": ("tests/test_loop.py",),
+    # which run directory train may write, new or resumed, and what it refuses
+    "runs/trainer.py": ("tests/test_trainer.py", "tests/test_loop.py"),
 }
 
 #: modules of which only some functions are mutated (mutmut's name patterns):

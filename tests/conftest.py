@@ -101,3 +101,17 @@ def finished_study(tmp_path_factory):
     t = run_cli("study", str(path), "--table", "--quiet")
     assert t.returncode == 0, t.stderr
     return path, r, t
+
+
+@pytest.fixture
+def formula(monkeypatch):
+    """The formula behaviours (``tests/formula.py``) registered, their
+    counters reset."""
+    from formula import Formula, FormulaComposed
+    from locustjump import tasks
+
+    monkeypatch.setattr(tasks, "_REGISTRY", dict(tasks._REGISTRY))
+    tasks.register_behaviour(Formula)
+    tasks.register_behaviour(FormulaComposed)
+    Formula.reset()
+    return Formula

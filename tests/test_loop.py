@@ -7,61 +7,22 @@ with the physics: ``tests/test_runs.py``."""
 import json
 import re
 import threading
-from types import SimpleNamespace
 
 import numpy as np
 import pytest
 
+from formula import STEPS, Formula, formula_config
 from helpers import user_error
-from locustjump import rundir, tasks
-from locustjump.evo import CMAParams, MapElitesParams, RCGAParams
-from locustjump.rundir.config import TrainConfig
+from locustjump import rundir
+from locustjump.evo import CMAParams, MapElitesParams
 from locustjump.runs import loop, trainer
 from locustjump.runs.trainer import train
 from locustjump.sim.engine.backends import ThreadBackend
-from locustjump.tasks.kick import Kick
 
-STEPS = 7  # control steps an "episode" of the formula counts
-
-
-class Formula(Kick):
-    """The kick's network, scored by how close its genes are to 0.3."""
-
-    name = "formula"
-    fail_at: int | None = None  # a generation whose evaluation raises
-    coarse = False  # whole numbers: many genomes tie
-    calls = 0
-    #: what each evaluation and description was given beside the genomes
-    given: list = []
-
-    def evaluate(self, genomes, p, *, backend=None, engine="", record=None, label=""):
-        Formula.calls += 1
-        if Formula.calls > 20:  # no run here asks for as many generations
-            raise AssertionError("the loop went past its budget")
-        if Formula.fail_at == Formula.calls:
-            raise RuntimeError("the simulation broke")
-        Formula.given.append((p, backend, engine))
-        fit = -((genomes - 0.3) ** 2).sum(axis=1)
-        if Formula.coarse:
-            fit = np.floor(fit / 10)
-        return fit, SimpleNamespace(control_steps=STEPS * len(genomes), x=genomes)
-
-    def describe(self, res, p, names):
-        Formula.given.append((p, names))
-        return np.stack([np.abs(np.tanh(res.x[:, i])) for i in range(len(names))], 1)
+pytestmark = pytest.mark.usefixtures("formula")
 
 
-@pytest.fixture(autouse=True)
-def formula(monkeypatch):
-    monkeypatch.setattr(tasks, "_REGISTRY", dict(tasks._REGISTRY))
-    tasks.register_behaviour(Formula)
-    Formula.fail_at, Formula.calls, Formula.coarse, Formula.given = None, 0, False, []
-
-
-def _cfg(**kw):
-    args = {"behaviour": "formula", "seed": 5, "generations": 4,
-            "optimizer": RCGAParams(population=6)}  # fmt: skip
-    return TrainConfig(**{**args, **kw})
+_cfg = formula_config
 
 
 def _rows(out):
