@@ -128,6 +128,8 @@ MODULES: dict[str, tuple[str, ...]] = {
     "runs/loop.py": ("tests/test_loop.py",),
     # which run directory train may write, new or resumed, and what it refuses
     "runs/trainer.py": ("tests/test_trainer.py", "tests/test_loop.py"),
+    # `train`'s options over a config file over the defaults; a command's terrains
+    "cli/resolve.py": ("tests/test_resolve.py",),
 }
 
 #: modules of which only some functions are mutated (mutmut's name patterns):

@@ -1,0 +1,93 @@
+"""The equivalent mutants of the modules mutation testing took on
+2026-11-27 (the run directory, training, the command line, settings and
+scenes), each with the reason (``scripts/mutation_equivalent.py`` adds them
+to the rest)."""
+
+#: dtype kinds
+_NO_KIND_X = "NumPy has no dtype kind 'X': only 'i' and 'u' can match either way"
+_BAR = "how the bar is drawn on a terminal, not what it says (tests write to a pipe)"
+
+RUNS: dict[str, tuple[str, str]] = {
+    "locustjump.rundir.arrays.x_scalar__mutmut_13": ('"XXiuXX"', _NO_KIND_X),
+    "locustjump.rundir.arrays.x_plain__mutmut_4": (
+        '"XXbiufUXX"',
+        "NumPy has no dtype kind 'X': only 'b', 'i', 'u', 'f' and 'U' can match",
+    ),
+    # the setting's name given to the check is replaced by the re-raise's
+    **{
+        f"locustjump.tasks.options.xǁCommonOptionsǁ__post_init____mutmut_{n}": (
+            text,
+            "an error of the check is raised again under score_substeps",
+        )
+        for n, text in ((19, '"XXscore_substepsXX"'), (20, '"SCORE_SUBSTEPS"'))
+    },
+    "locustjump.sim.scene.xǁTerrainsǁ__post_init____mutmut_59": (
+        'getattr(self.scene, "seed", 1)',
+        "a scene without a seed holds 1 terrain (checked just before), whose "
+        "last seed, 0 or 1, is far from 2**63-1",
+    ),
+    "locustjump.rundir.layout.x_is_unstarted__mutmut_8": (
+        'name.rpartition(".")',
+        "frozen.npz, config.toml and metrics.csv hold one dot each: split alike",
+    ),
+    # how tqdm draws the bar on a terminal (its width, when it redraws), not
+    # what it says; tests write to a pipe
+    **{
+        f"locustjump.runs.loop.xǁTrainerǁrun__mutmut_{n}": (text, _BAR)
+        for n, text in (
+            (11, "dynamic_ncols=None"),
+            (17, "- dynamic_ncols=True, | - ) | + )"),
+            (21, "dynamic_ncols=False"),
+            (129, "refresh=None"),
+            (133, "- refresh=False, | - ) | + )"),
+            (136, "refresh=True"),
+        )
+    },
+    "locustjump.runs.loop.xǁTrainerǁrun__mutmut_148": (
+        "failed = None",
+        "only read as 'not failed': None and False alike",
+    ),
+    "locustjump.runs.loop.xǁTrainerǁ__init____mutmut_8": (
+        'self.metrics_row = "XXXX"',
+        "read only without a checkpoint, at generation 0, whose row "
+        "truncate_metrics never writes, and for its commas: none in either",
+    ),
+    # a new run's metrics.csv: its header only (generation 0 reads no row)
+    **{
+        f"locustjump.runs.trainer.x__create__mutmut_{n}": (
+            text,
+            "truncate_metrics reads the checkpoint's row only beyond generation 0",
+        )
+        for n, text in ((11, "0, None, run.diagnostics"), (19, '0, "XXXX", run'))
+    },
+    "locustjump.runs.trainer.x__check_new__mutmut_34": (
+        "frozen is not None or cls.requires",
+        "a behaviour built on no run ignores the genomes given (get_behaviour)",
+    ),
+    "locustjump.runs.trainer.x__check_new__mutmut_62": (
+        "lm.load_model(cfg.model, )",
+        "a rollout's memory counts the creature's records and MuJoCo's arena, "
+        "the same in every scene here (checked on the debris field)",
+    ),
+    "locustjump.runs.trainer.x_train__mutmut_59": (
+        "_check_new(out, cfg, cls, frozen, None)",
+        "the second check's Trainer is thrown away: only what it refuses counts",
+    ),
+    "locustjump.cli.resolve.x_own_terrains__mutmut_12": (
+        "(isinstance(summary, dict)) or True",
+        "read_json gives a JSON object or refuses the file",
+    ),
+    "locustjump.cli.resolve.x_scene_override__mutmut_17": (
+        "(t is None) and False",
+        "terrains_arg gives None only when nothing is asked, returned before",
+    ),
+    "locustjump.ranges.xǁRangeǁ__str____mutmut_5": (
+        '"XX[(XX"',
+        "an interval's text starts with [, (, > or <, never with X",
+    ),
+    "locustjump.cli.resolve.x__checked__mutmut_12": (
+        'option.lstrip("XX-XX")',
+        "lstrip takes a set of characters: X and - strip an option's leading "
+        "dashes alike (no option starts with X)",
+    ),
+}
