@@ -165,15 +165,15 @@ def test_a_scene_file(tmp_path):
 
 def test_a_runs_own_terrains(tmp_path):
     assert rs.own_terrains(KICK) == rundir.load_config(KICK / "config.toml").scene
-    rules = Path(__file__).resolve().parent.parent / "results" / "demo-seed0" / "rules"
     (tmp_path / "summary.json").write_text('{"scene": {"kind": "debris", "seed": 4}}')
     (tmp_path / "trajectory.csv").write_text("")
     assert rs.own_terrains(tmp_path) == Terrains(Debris(seed=4))
     (tmp_path / "summary.json").write_text("{}")  # made before scenes: the floor
     assert rs.own_terrains(str(tmp_path)) == Terrains()
-    assert user_error(rs.own_terrains, rules) == (
-        f"--terrain-seed: {rules} is not a run; give --scene too"
-    )  # its trajectory.csv is not shipped
+    (tmp_path / "trajectory.csv").unlink()  # a summary alone is no run
+    assert user_error(rs.own_terrains, tmp_path) == (
+        f"--terrain-seed: {tmp_path} is not a run; give --scene too"
+    )
 
 
 def _args(scene=None, terrain_seed=None):
