@@ -130,6 +130,8 @@ MODULES: dict[str, tuple[str, ...]] = {
     "runs/trainer.py": ("tests/test_trainer.py", "tests/test_loop.py"),
     # `train`'s options over a config file over the defaults; a command's terrains
     "cli/resolve.py": ("tests/test_resolve.py",),
+    # plugins: what is registered or skipped, and what a run made with them needs
+    "plugins.py": ("tests/test_plugin_loader.py",),
 }
 
 #: modules of which only some functions are mutated (mutmut's name patterns):
