@@ -5,6 +5,10 @@ to the rest)."""
 
 #: dtype kinds
 _NO_KIND_X = "NumPy has no dtype kind 'X': only 'i' and 'u' can match either way"
+_FLOATS = (
+    "numbers in, floats out: the change time divided by the control step, the "
+    "genome by the network's arithmetic; the rules read column 0 alone"
+)
 _BAR = "how the bar is drawn on a terminal, not what it says (tests write to a pipe)"
 
 RUNS: dict[str, tuple[str, str]] = {
@@ -84,6 +88,24 @@ RUNS: dict[str, tuple[str, str]] = {
     "locustjump.ranges.xǁRangeǁ__str____mutmut_5": (
         '"XX[(XX"',
         "an interval's text starts with [, (, > or <, never with X",
+    ),
+    # a change time or genome of integers divides into floats either way, and
+    # the rules read the change time alone
+    **{
+        f"locustjump.tasks.rules.xǁ{cls}ǁ{f}__mutmut_{n}": (text, _FLOATS)
+        for cls, f, n, text in (
+            ("RuleController", "params_for", 4, "dtype=None"),
+            ("RuleController", "params_for", 6, "np.asarray(change_time, )"),
+            ("RuleController", "prepare", 2, "dtype=None"),
+            ("RuleController", "prepare", 4, "np.asarray(params, )"),
+            ("RuleGetupController", "prepare", 3, "dtype=None"),
+            ("RuleGetupController", "prepare", 5, "np.asarray(params, )"),
+            ("RuleGetupController", "prepare", 7, "params[:, :2]"),
+        )
+    },
+    "locustjump.tasks.rules.xǁRuleGetupControllerǁact__mutmut_7": (
+        "targets, None)",
+        "the rules read no step: the touch timer is their clock",
     ),
     "locustjump.cli.resolve.x__checked__mutmut_12": (
         'option.lstrip("XX-XX")',

@@ -132,6 +132,9 @@ MODULES: dict[str, tuple[str, ...]] = {
     "cli/resolve.py": ("tests/test_resolve.py",),
     # plugins: what is registered or skipped, and what a run made with them needs
     "plugins.py": ("tests/test_plugin_loader.py",),
+    # the paper's rules as a controller (the NumPy engine's), and the get-up
+    # network taking over while overturned
+    "tasks/rules.py": ("tests/test_rule_controller.py",),
 }
 
 #: modules of which only some functions are mutated (mutmut's name patterns):
