@@ -135,6 +135,8 @@ MODULES: dict[str, tuple[str, ...]] = {
     # the paper's rules as a controller (the NumPy engine's), and the get-up
     # network taking over while overturned
     "tasks/rules.py": ("tests/test_rule_controller.py",),
+    # how far the rule-based jumper got: the reference every report quotes
+    "tasks/reference.py": ("tests/test_rules_outcome.py",),
 }
 
 #: modules of which only some functions are mutated (mutmut's name patterns):
@@ -159,6 +161,11 @@ FUNCTIONS: dict[str, tuple[str, ...]] = {
         "locustjump.present.evaluate.xǁEvaluationǁ*",
         "locustjump.present.evaluate.xǁTerrainEvaluationǁ*",
         "locustjump.present.evaluate.x_plain__mutmut_*",
+    ),
+    # the outcome and the head of a run, not its simulation (tests/test_debris.py)
+    "tasks/reference.py": (
+        "locustjump.tasks.reference.x_rules_outcome__mutmut_*",
+        "locustjump.tasks.reference.xǁRulesRunǁhead__mutmut_*",
     ),
     # the seeds' parser, not the reproduction over seeds (tests/test_multiseed.py)
     "runs/multiseed.py": ("locustjump.runs.multiseed.x_parse_seeds__mutmut_*",),
@@ -265,6 +272,7 @@ PART = {
     "runs/study.py": "the runs' checks and costs",
     "runs/multiseed.py": "the seeds' parser",
     "present/evaluate.py": "its records",
+    "tasks/reference.py": "the outcome",
     "present/compare.py": "groups and table",
     "runs/study_table.py": "the table",
     "runs/study_plan.py": "the forecast",
