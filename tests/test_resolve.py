@@ -139,7 +139,7 @@ def test_terrains_refused_name_the_option():
         "(e.g. --scene debris)"
     )
     assert user_error(rs.terrains_arg, "debris", -1) == (
-        "--terrain-seed: seed must be an integer in [0, 2**63-1], got -1"
+        "--terrain-seed must be an integer in [0, 2**63-1], got -1"
     )
     assert user_error(
         rs.terrains_arg, None, 2**63 - 1, None, Terrains(Debris(), 2)

@@ -133,7 +133,7 @@ def terrains_arg(
                 f"--terrain-seed: the {t.scene.name} scene has no terrains to "
                 f"choose from (e.g. --scene debris)"
             )
-        seeded = _checked("--terrain-seed", t.scene.with_seed, terrain_seed)
+        seeded = _checked("--terrain-seed", t.scene.with_seed, seed=terrain_seed)
         if terrains is None:  # the count of base, from this seed on
             t = _checked("--terrain-seed", dataclasses.replace, t, scene=seeded)
         else:
