@@ -107,6 +107,13 @@ RUNS: dict[str, tuple[str, str]] = {
         "targets, None)",
         "the rules read no step: the touch timer is their clock",
     ),
+    **{
+        f"locustjump.tasks.ceiling.xǁOpenLoopǁprepare__mutmut_{n}": (
+            text,
+            "np.tanh makes float64 of integer genes either way (and of floats)",
+        )
+        for n, text in ((3, "dtype=None"), (5, "np.asarray(params, )"))
+    },
     "locustjump.cli.resolve.x__checked__mutmut_12": (
         'option.lstrip("XX-XX")',
         "lstrip takes a set of characters: X and - strip an option's leading "

@@ -137,6 +137,8 @@ MODULES: dict[str, tuple[str, ...]] = {
     "tasks/rules.py": ("tests/test_rule_controller.py",),
     # how far the rule-based jumper got: the reference every report quotes
     "tasks/reference.py": ("tests/test_rules_outcome.py",),
+    # the kick's ceiling: the open-loop controller and the apex rise
+    "tasks/ceiling.py": ("tests/test_open_loop.py",),
 }
 
 #: modules of which only some functions are mutated (mutmut's name patterns):
@@ -166,6 +168,11 @@ FUNCTIONS: dict[str, tuple[str, ...]] = {
     "tasks/reference.py": (
         "locustjump.tasks.reference.x_rules_outcome__mutmut_*",
         "locustjump.tasks.reference.xǁRulesRunǁhead__mutmut_*",
+    ),
+    # the open-loop controller and the apex rise, not the behaviours' set-up
+    "tasks/ceiling.py": (
+        "locustjump.tasks.ceiling.xǁOpenLoopǁ*",
+        "locustjump.tasks.ceiling.x_apex_rise__mutmut_*",
     ),
     # the seeds' parser, not the reproduction over seeds (tests/test_multiseed.py)
     "runs/multiseed.py": ("locustjump.runs.multiseed.x_parse_seeds__mutmut_*",),
@@ -273,6 +280,7 @@ PART = {
     "runs/multiseed.py": "the seeds' parser",
     "present/evaluate.py": "its records",
     "tasks/reference.py": "the outcome",
+    "tasks/ceiling.py": "controller, apex",
     "present/compare.py": "groups and table",
     "runs/study_table.py": "the table",
     "runs/study_plan.py": "the forecast",
