@@ -6,7 +6,7 @@ in ``scripts/mutation_equivalent_runs.py``, the rest here."""
 
 from mutation_equivalent_evo import EVO
 from mutation_equivalent_runs import RUNS
-from mutation_reasons import SORT_CASE, ZIP, cast, zip_strict
+from mutation_reasons import SORT_CASE, ZIP, alike, cast, zip_strict
 
 _EDGES_FLOAT = "the edges are compared with 1 and -1, which floats hold exactly"
 _RISE_FALL = (
@@ -71,15 +71,16 @@ _CAST = "typing.cast returns its value unchanged, whatever the type named"
 EQUIVALENT: dict[str, tuple[str, str]] = {
     **EVO,
     **RUNS,
-    **{
-        f"locustjump.present.compare.x_optimizer_label__mutmut_{n}": (text, _CAST)
-        for n, text in (
-            (7, "cast(None, params)"),
-            (11, 'cast("XXDataclassInstanceXX", params)'),
-            (12, 'cast("dataclassinstance", params)'),
-            (13, 'cast("DATACLASSINSTANCE", params)'),
-        )
-    },
+    **alike(
+        "locustjump.present.compare.x_optimizer_label",
+        _CAST,
+        {
+            7: "cast(None, params)",
+            11: 'cast("XXDataclassInstanceXX", params)',
+            12: 'cast("dataclassinstance", params)',
+            13: 'cast("DATACLASSINSTANCE", params)',
+        },
+    ),
     **zip_strict(
         "locustjump.present.compare.x_frozen_evaluations",
         (15, 19, 20),

@@ -3,6 +3,8 @@
 scenes), each with the reason (``scripts/mutation_equivalent.py`` adds them
 to the rest)."""
 
+from mutation_reasons import alike
+
 #: dtype kinds
 _NO_KIND_X = "NumPy has no dtype kind 'X': only 'i' and 'u' can match either way"
 _FLOATS = (
@@ -18,13 +20,14 @@ RUNS: dict[str, tuple[str, str]] = {
         "NumPy has no dtype kind 'X': only 'b', 'i', 'u', 'f' and 'U' can match",
     ),
     # the setting's name given to the check is replaced by the re-raise's
-    **{
-        f"locustjump.tasks.options.xǁCommonOptionsǁ__post_init____mutmut_{n}": (
-            text,
-            "an error of the check is raised again under score_substeps",
-        )
-        for n, text in ((19, '"XXscore_substepsXX"'), (20, '"SCORE_SUBSTEPS"'))
-    },
+    **alike(
+        "locustjump.tasks.options.xǁCommonOptionsǁ__post_init__",
+        "an error of the check is raised again under score_substeps",
+        {
+            19: '"XXscore_substepsXX"',
+            20: '"SCORE_SUBSTEPS"',
+        },
+    ),
     "locustjump.sim.scene.xǁTerrainsǁ__post_init____mutmut_59": (
         'getattr(self.scene, "seed", 1)',
         "a scene without a seed holds 1 terrain (checked just before), whose "
@@ -36,17 +39,18 @@ RUNS: dict[str, tuple[str, str]] = {
     ),
     # how tqdm draws the bar on a terminal (its width, when it redraws), not
     # what it says; tests write to a pipe
-    **{
-        f"locustjump.runs.loop.xǁTrainerǁrun__mutmut_{n}": (text, _BAR)
-        for n, text in (
-            (11, "dynamic_ncols=None"),
-            (17, "- dynamic_ncols=True, | - ) | + )"),
-            (21, "dynamic_ncols=False"),
-            (129, "refresh=None"),
-            (133, "- refresh=False, | - ) | + )"),
-            (136, "refresh=True"),
-        )
-    },
+    **alike(
+        "locustjump.runs.loop.xǁTrainerǁrun",
+        _BAR,
+        {
+            11: "dynamic_ncols=None",
+            17: "- dynamic_ncols=True, | - ) | + )",
+            21: "dynamic_ncols=False",
+            129: "refresh=None",
+            133: "- refresh=False, | - ) | + )",
+            136: "refresh=True",
+        },
+    ),
     "locustjump.runs.loop.xǁTrainerǁrun__mutmut_148": (
         "failed = None",
         "only read as 'not failed': None and False alike",
@@ -57,13 +61,14 @@ RUNS: dict[str, tuple[str, str]] = {
         "truncate_metrics never writes, and for its commas: none in either",
     ),
     # a new run's metrics.csv: its header only (generation 0 reads no row)
-    **{
-        f"locustjump.runs.trainer.x__create__mutmut_{n}": (
-            text,
-            "truncate_metrics reads the checkpoint's row only beyond generation 0",
-        )
-        for n, text in ((11, "0, None, run.diagnostics"), (19, '0, "XXXX", run'))
-    },
+    **alike(
+        "locustjump.runs.trainer.x__create",
+        "truncate_metrics reads the checkpoint's row only beyond generation 0",
+        {
+            11: "0, None, run.diagnostics",
+            19: '0, "XXXX", run',
+        },
+    ),
     "locustjump.runs.trainer.x__check_new__mutmut_34": (
         "frozen is not None or cls.requires",
         "a behaviour built on no run ignores the genomes given (get_behaviour)",
@@ -107,13 +112,14 @@ RUNS: dict[str, tuple[str, str]] = {
         "targets, None)",
         "the rules read no step: the touch timer is their clock",
     ),
-    **{
-        f"locustjump.tasks.ceiling.xǁOpenLoopǁprepare__mutmut_{n}": (
-            text,
-            "np.tanh makes float64 of integer genes either way (and of floats)",
-        )
-        for n, text in ((3, "dtype=None"), (5, "np.asarray(params, )"))
-    },
+    **alike(
+        "locustjump.tasks.ceiling.xǁOpenLoopǁprepare",
+        "np.tanh makes float64 of integer genes either way (and of floats)",
+        {
+            3: "dtype=None",
+            5: "np.asarray(params, )",
+        },
+    ),
     "locustjump.cli.resolve.x__checked__mutmut_12": (
         'option.lstrip("XX-XX")',
         "lstrip takes a set of characters: X and - strip an option's leading "

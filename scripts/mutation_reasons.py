@@ -37,3 +37,9 @@ def cast(
         f"{function}__mutmut_{n}": (text, why)
         for n, text in zip(numbers, texts, strict=True)
     }
+
+
+def alike(function: str, why: str, texts: dict[int, str]) -> dict[str, tuple[str, str]]:
+    """Several mutants of ``function`` equivalent for one reason ``why``:
+    ``texts`` maps each one's number to its mutated text."""
+    return {f"{function}__mutmut_{n}": (text, why) for n, text in texts.items()}
