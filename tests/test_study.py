@@ -96,7 +96,12 @@ def test_debris_table_scores_shipped_runs_on_held_out_terrains(tmp_path, capsys)
 
 
 @pytest.mark.parametrize(
-    ("study", "n"), [("debris-composition-5seeds", 5), ("repertoire-composition", 10)]
+    ("study", "n"),
+    [
+        ("debris-composition-5seeds", 5),
+        ("debris-composition", 15),
+        ("repertoire-composition", 10),
+    ],
 )
 def test_science_md_tables_are_the_shipped_studies(study, n):
     """docs/science.md's table of a study per arm (median [min, max] as
