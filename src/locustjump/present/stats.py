@@ -231,3 +231,54 @@ def pairs_table(comparisons: Sequence[Comparison]) -> str:
             f"{p_text(c.p)} | {tost_p} | {power} | {c.verdict} |"
         )
     return "\n".join(lines)
+
+
+def holm(p: Sequence[float]) -> list[float]:
+    """Holm–Bonferroni adjusted p values (Holm 1979, step-down): the k-th
+    smallest of m p values times m - k + 1, never below an earlier one,
+    capped at 1. Each comparison holds at a family-wise error rate ``alpha``
+    where its adjusted p is at most ``alpha``; no assumption on how the
+    tests depend on each other."""
+    out = [1.0] * len(p)
+    run = 0.0
+    for k, i in enumerate(sorted(range(len(p)), key=lambda j: p[j])):
+        run = max(run, min(1.0, (len(p) - k) * p[i]))
+        out[i] = run
+    return out
+
+
+def family_table(
+    named: Sequence[tuple[str, dict[str, Any]]], alpha: float = ALPHA
+) -> tuple[str, list[dict[str, Any]]]:
+    """The comparisons of one table taken as one family: a Markdown table, a
+    row per comparison with a Mann–Whitney p (each :meth:`Comparison.row`,
+    named by which scores it compared), its Holm-adjusted p and whether it
+    holds at family-wise level ``alpha``; and those rows, JSON-able."""
+    tested = [(w, c) for w, c in named if c["p"] is not None]
+    adjusted = holm([c["p"] for _, c in tested])
+    rows = [
+        {
+            "a": c["a"],
+            "b": c["b"],
+            "where": w,
+            "p": c["p"],
+            "p_holm": q,
+            "holds": q <= alpha,
+        }
+        for (w, c), q in zip(tested, adjusted, strict=True)
+    ]
+    lines = [
+        f"All {len(rows)} comparisons above as one family (Holm–Bonferroni; "
+        f"a comparison holds at a family-wise error rate of {_g(alpha)} where "
+        "its adjusted p is at most that):",
+        "",
+        "| pair | scores | Mann–Whitney p | Holm p | holds |",
+        "| --- | --- | --- | --- | --- |",
+    ]
+    for r in rows:
+        held = "yes" if r["holds"] else "no"
+        lines.append(
+            f"| {r['a']} - {r['b']} | {r['where']} | {p_text(r['p'])} | "
+            f"{p_text(r['p_holm'])} | {held} |"
+        )
+    return "\n".join(lines), rows

@@ -35,15 +35,20 @@ import numpy as np
 
 from locustjump import rundir
 from locustjump.errors import UserError
-from locustjump.present.compare import BUDGET_TOLERANCE, Group, convergence_figure
+from locustjump.present.compare import BUDGET_TOLERANCE
 from locustjump.present.episodes import score_run
-from locustjump.present.stats import Comparison, compare_samples, pairs_table
+from locustjump.present.stats import (
+    Comparison,
+    compare_samples,
+    family_table,
+    pairs_table,
+)
 from locustjump.present.study_figure import (
     SCORES_PNG,
     resolution_label,
     scores_figure,
 )
-from locustjump.runs.learning import flat_note, late_gain
+from locustjump.runs.learning import flat_note, late_gain, learning_figure, spent
 from locustjump.runs.study import check_run, states
 from locustjump.runs.studyarms import Arm
 from locustjump.runs.studyfile import Study
@@ -61,28 +66,6 @@ SCORES_VERSION = 1
 TABLE_MD = "table.md"
 TABLE_JSON = "table.json"
 FIGURE = "learning.png"
-#: columns of the metrics that count a run's budget, per currency
-CURRENCY_COLUMN = {"evaluations": "evaluations", "control-steps": "control_steps"}
-
-
-def spent(study: Study, arm: Arm, seed: int) -> dict[str, int]:
-    """Genome evaluations and control steps (``evaluations``,
-    ``control_steps``) of the run of ``arm`` and ``seed``
-    and of every run it builds on, in the study."""
-    m = rundir.read_metrics(arm.run_dir(seed) / rundir.METRICS)
-    out = {col: int(m[col].sum()) for col in CURRENCY_COLUMN.values()}
-    for other in arm.frozen.values():
-        for c, v in spent(study, study.arms[other], seed).items():
-            out[c] += v
-    return out
-
-
-def curve(study: Study, arm: Arm, seed: int) -> tuple[np.ndarray, np.ndarray]:
-    """(spent so far in the study's currency, frozen runs first; best so far)."""
-    m = rundir.read_metrics(arm.run_dir(seed) / rundir.METRICS)
-    col = CURRENCY_COLUMN[study.currency]
-    offset = sum(spent(study, study.arms[o], seed)[col] for o in arm.frozen.values())
-    return np.cumsum(m[col]) + offset, np.maximum.accumulate(m["best"])
 
 
 def _key(path: Path, substeps: int | None, terrains: tuple[int, ...] | None) -> str:
@@ -278,6 +261,12 @@ def make_table(study: Study, rows: list[dict[str, Any]]) -> tuple[str, dict[str,
             md += ["", "On the height term alone (Eq. 4 above the ground, "
                    "without the distance term; the margin as above):", "",
                    pairs_table(hc)]  # fmt: skip
+    family = [(f"{_label(s)}{tag}", c)
+              for key, tag in (("pairs", ""), ("pairs_height_term", ", height term"))
+              for s, cs in out.get(key, {}).items() for c in cs]  # fmt: skip
+    if len(family) > 1:
+        text, out["holm"] = family_table(family)
+        md += ["", text]
     md += ["", _reading(study)]
     return "\n".join(md) + "\n", out
 
@@ -378,21 +367,3 @@ def study_table(
         learning_figure(study, where / FIGURE)
         scores_figure(data, where / SCORES_PNG)
     return where / TABLE_MD, where / TABLE_JSON
-
-
-def learning_figure(study: Study, path: Path) -> Path:
-    """Each scored arm's best training fitness so far against what it spent
-    in the study's currency: median and interquartile band over seeds."""
-    groups = []
-    for a in study.scored:
-        curves = tuple(curve(study, a, s) for s in study.seeds)
-        groups.append(Group(
-            a.label, tuple(a.run_dir(s) for s in study.seeds),
-            np.array([c[1][-1] for c in curves]),
-            np.array([int(c[0][-1]) for c in curves]), curves,
-        ))  # fmt: skip
-    return convergence_figure(
-        groups, path,
-        title=f"{study.name}: best training fitness, median and IQR over seeds",
-        xlabel=f"{study.currency}, the frozen runs' included",
-    )  # fmt: skip
