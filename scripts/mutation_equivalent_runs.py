@@ -120,6 +120,16 @@ RUNS: dict[str, tuple[str, str]] = {
             5: "np.asarray(params, )",
         },
     ),
+    **alike(
+        "locustjump.present.stats.x_family_table",
+        "both lists come from tested, one adjusted p per comparison: equal lengths",
+        {31: "strict=None", 34: "zip(tested, adjusted, )", 35: "strict=False"},
+    ),
+    "locustjump.present.stats.x_holm__mutmut_3": (
+        "[2.0] * len(p)",
+        "every place is written in the loop (it visits a permutation of the "
+        "indices) before the list is returned",
+    ),
     "locustjump.cli.resolve.x__checked__mutmut_12": (
         'option.lstrip("XX-XX")',
         "lstrip takes a set of characters: X and - strip an option's leading "

@@ -67,7 +67,10 @@ def test_family_table_rows_and_text():
         "| x - ref | 3 substeps | 0.01 | 0.02 | yes |",
         "| y - ref | 3 substeps, height term | 0.04 | 0.04 | yes |",
     ]
-    _, strict = family_table(named, alpha=0.03)
+    assert lines[1] == ""
+    text, strict = family_table(named, alpha=0.03)
     assert [r["holds"] for r in strict] == [True, False]
+    last = "| y - ref | 3 substeps, height term | 0.04 | 0.04 | no |"
+    assert text.splitlines()[-1] == last
     _, edge = family_table([("s", _row("x", 0.025)), ("t", _row("y", 0.5))])
     assert edge[0]["p_holm"] == 0.05 and edge[0]["holds"]  # at most alpha holds

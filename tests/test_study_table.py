@@ -270,3 +270,20 @@ def test_a_flattening_rule_outside_0_to_1_is_named(tmp_path, bad):
     with pytest.raises(UserError, match=r"t.toml: flat_gain must be"):
         _study(tmp_path, flat=bad)
     assert _study(tmp_path, flat="1").flat_gain == 1.0
+
+
+def test_the_family_section_needs_two_comparisons(tmp_path):
+    """Two comparisons (one pair at 3 and 12 substeps, no height term) are a
+    family, with their Holm p in table.json; one alone is not."""
+    rows = [_row(a, i, score=s + (10 if a == "b" else 0))
+            for i, s in enumerate((1.0, 3.0, 2.0)) for a in "ab"]  # fmt: skip
+    md, data = st.make_table(_study(tmp_path, arms="ab"), rows)
+    assert "All 2 comparisons above as one family" in md
+    where = [(r["where"], r["a"], r["b"]) for r in data["holm"]]
+    pair = ("arm A", "arm B")
+    assert where == [("3 substeps", *pair), ("12 substeps", *pair)]
+    path = tmp_path / "t.toml"
+    path.write_text(path.read_text().replace("[3, 12]", "[3]"))
+    md, data = st.make_table(load_study(path), rows)
+    assert "as one family" not in md and "holm" not in data
+    assert len(data["pairs"]["3"]) == 1
