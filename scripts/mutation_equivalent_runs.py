@@ -125,6 +125,11 @@ RUNS: dict[str, tuple[str, str]] = {
         "both lists come from tested, one adjusted p per comparison: equal lengths",
         {31: "strict=None", 34: "zip(tested, adjusted, )", 35: "strict=False"},
     ),
+    **alike(
+        "locustjump.present.episodes.x_episode_score",
+        "the three records are arrays of one rollout: one row per start state each",
+        {37: "strict=None", 42: "- strict=True, | - ) | + )", 49: "strict=False"},
+    ),
     "locustjump.present.stats.x_holm__mutmut_3": (
         "[2.0] * len(p)",
         "every place is written in the loop (it visits a permutation of the "

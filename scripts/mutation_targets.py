@@ -49,6 +49,8 @@ MODULES: dict[str, tuple[str, ...]] = {
     "present/stats.py": ("tests/test_stats.py", "tests/test_holm.py"),
     # the study table those claims are read from: its cells, budgets, pairs
     "runs/study_table.py": ("tests/test_study_table.py", "tests/test_late_gain.py"),
+    # the table's episode columns: terms, distance, jumps, walls, penetration
+    "present/episodes.py": ("tests/test_episodes_units.py",),
     # the gain in the last third and the declared flattening rule it decides
     "runs/learning.py": ("tests/test_late_gain.py", "tests/test_study_table.py"),
     # the height-only ablation of issue #45: its answer rests on this fitness
@@ -233,6 +235,11 @@ FUNCTIONS: dict[str, tuple[str, ...]] = {
     ),
     # the ground's height (the rest is the scene's MJCF, checked by physics)
     "sim/debris.py": ("locustjump.sim.debris.xǁDebrisǁheights__mutmut_*",),
+    # an episode's numbers from its records (the rest simulates and replays)
+    "present/episodes.py": tuple(
+        f"locustjump.present.episodes.x_{f}__mutmut_*"
+        for f in ("episode_score", "_scenes")
+    ),
     # how far learning got and the declared rule, not the budgets and figure
     # that moved here from runs/study_table.py (outside its selection there)
     "runs/learning.py": tuple(
@@ -289,6 +296,7 @@ PART = {
     "present/compare.py": "groups and table",
     "runs/study_table.py": "the table",
     "runs/learning.py": "late gain, the flat rule",
+    "present/episodes.py": "an episode's numbers",
     "runs/study_plan.py": "the forecast",
     "present/study_figure.py": "its rows",
     "sim/debris.py": "the ground's height",
