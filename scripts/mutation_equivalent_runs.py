@@ -130,6 +130,11 @@ RUNS: dict[str, tuple[str, str]] = {
         "the three records are arrays of one rollout: one row per start state each",
         {37: "strict=None", 42: "- strict=True, | - ) | + )", 49: "strict=False"},
     ),
+    "locustjump.rundir.trajectory.x_write_trajectory_csv__mutmut_13": (
+        '"%.6F"',
+        "%F differs from %f only for inf and nan, and the time column is "
+        "step x CONTROL_DT (finite)",
+    ),
     "locustjump.present.stats.x_holm__mutmut_3": (
         "[2.0] * len(p)",
         "every place is written in the loop (it visits a permutation of the "

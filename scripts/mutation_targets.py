@@ -49,6 +49,8 @@ MODULES: dict[str, tuple[str, ...]] = {
     "present/stats.py": ("tests/test_stats.py", "tests/test_holm.py"),
     # the study table those claims are read from: its cells, budgets, pairs
     "runs/study_table.py": ("tests/test_study_table.py", "tests/test_late_gain.py"),
+    # a run's per-step CSV (replay, evaluate): each column's record
+    "rundir/trajectory.py": ("tests/test_trajectory_table.py",),
     # the table's episode columns: terms, distance, jumps, walls, penetration
     "present/episodes.py": ("tests/test_episodes_units.py",),
     # the gain in the last third and the declared flattening rule it decides
