@@ -49,6 +49,8 @@ MODULES: dict[str, tuple[str, ...]] = {
     "present/stats.py": ("tests/test_stats.py", "tests/test_holm.py"),
     # the study table those claims are read from: its cells, budgets, pairs
     "runs/study_table.py": ("tests/test_study_table.py", "tests/test_late_gain.py"),
+    # how an error names a setting on the command line: its option
+    "cli/flags.py": ("tests/test_flags_units.py",),
     # the memory check every command makes before it allocates
     "sim/resources.py": ("tests/test_resources.py",),
     # a run's per-step CSV (replay, evaluate): each column's record
