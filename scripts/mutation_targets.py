@@ -93,7 +93,12 @@ MODULES: dict[str, tuple[str, ...]] = {
     "rundir/outputs.py": ("tests/test_outputs.py",),
     # what a study file may say: every claim of a study rests on its arms,
     # seeds, budgets and held-out terrains being the ones declared
-    "runs/studyfile.py": ("tests/test_studyfile.py", "tests/test_studyarms.py"),
+    "runs/studyfile.py": (
+        "tests/test_studyfile.py",
+        "tests/test_studyarms.py",
+        "tests/test_study_primary.py",
+    ),
+    "runs/study_pairs.py": ("tests/test_study_primary.py", "tests/test_study_table.py"),
     "runs/studyarms.py": ("tests/test_studyarms.py", "tests/test_studyfile.py"),
     # one writer per directory: what keeps a run, a study's workers and a
     # command's output from being written twice at once
@@ -256,10 +261,8 @@ FUNCTIONS: dict[str, tuple[str, ...]] = {
         f"locustjump.runs.study_table.x_{f}__mutmut_*"
         for f in (
             "make_table",
-            "_compared",
             "_med",
             "_seeds_text",
-            "pairs",
             "_budget_note",
             "_reading",
             "_fmt",

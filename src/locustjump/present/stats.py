@@ -248,12 +248,15 @@ def holm(p: Sequence[float]) -> list[float]:
 
 
 def family_table(
-    named: Sequence[tuple[str, dict[str, Any]]], alpha: float = ALPHA
+    named: Sequence[tuple[str, dict[str, Any]]],
+    alpha: float = ALPHA,
+    title: str | None = None,
 ) -> tuple[str, list[dict[str, Any]]]:
     """The comparisons of one table taken as one family: a Markdown table, a
     row per comparison with a Mann–Whitney p (each :meth:`Comparison.row`,
     named by which scores it compared), its Holm-adjusted p and whether it
-    holds at family-wise level ``alpha``; and those rows, JSON-able."""
+    holds at family-wise level ``alpha``; and those rows, JSON-able.
+    ``title`` names the family (default: all N comparisons above)."""
     tested = [(w, c) for w, c in named if c["p"] is not None]
     adjusted = holm([c["p"] for _, c in tested])
     rows = [
@@ -268,7 +271,8 @@ def family_table(
         for (w, c), q in zip(tested, adjusted, strict=True)
     ]
     lines = [
-        f"All {len(rows)} comparisons above as one family (Holm–Bonferroni; "
+        f"{title or f'All {len(rows)} comparisons above as one family'} "
+        "(Holm–Bonferroni; "
         f"a comparison holds at a family-wise error rate of {_g(alpha)} where "
         "its adjusted p is at most that):",
         "",

@@ -37,12 +37,7 @@ from locustjump import rundir
 from locustjump.errors import UserError
 from locustjump.present.compare import BUDGET_TOLERANCE
 from locustjump.present.episodes import score_run
-from locustjump.present.stats import (
-    Comparison,
-    compare_samples,
-    family_table,
-    pairs_table,
-)
+from locustjump.present.stats import pairs_table
 from locustjump.present.study_figure import (
     SCORES_PNG,
     resolution_label,
@@ -50,7 +45,7 @@ from locustjump.present.study_figure import (
 )
 from locustjump.runs.learning import flat_note, late_gain, learning_figure, spent
 from locustjump.runs.study import check_run, states
-from locustjump.runs.studyarms import Arm
+from locustjump.runs.study_pairs import compared, families
 from locustjump.runs.studyfile import Study
 
 if TYPE_CHECKING:
@@ -247,7 +242,7 @@ def make_table(study: Study, rows: list[dict[str, Any]]) -> tuple[str, dict[str,
         if few:
             verb = "has" if len(few) == 1 else "each have"
             md += ["", f"No comparison: {'; '.join(few)} {verb} fewer than 2 runs."]
-        comps = [] if few else _compared(study, samples)
+        comps = [] if few else compared(study, samples)
         out["pairs"][s] = [c.row() for c in comps]
         if comps:
             md += ["", pairs_table(comps)]
@@ -256,28 +251,14 @@ def make_table(study: Study, rows: list[dict[str, Any]]) -> tuple[str, dict[str,
         added = any(r["at"][s]["distance_term"] for r in rows)
         if comps and added and all(None not in v for v in height.values()):
             # the fitness without the distance term we added: the paper's Eq. 4
-            hc = _compared(study, {k: np.array(v) for k, v in height.items()})
+            hc = compared(study, {k: np.array(v) for k, v in height.items()})
             out.setdefault("pairs_height_term", {})[s] = [c.row() for c in hc]
             md += ["", "On the height term alone (Eq. 4 above the ground, "
                    "without the distance term; the margin as above):", "",
                    pairs_table(hc)]  # fmt: skip
-    family = [(f"{_label(s)}{tag}", c)
-              for key, tag in (("pairs", ""), ("pairs_height_term", ", height term"))
-              for s, cs in out.get(key, {}).items() for c in cs]  # fmt: skip
-    if len(family) > 1:
-        text, out["holm"] = family_table(family)
-        md += ["", text]
+    md += families(study, out)
     md += ["", _reading(study)]
     return "\n".join(md) + "\n", out
-
-
-def _compared(study: Study, samples: dict[str, np.ndarray]) -> list[Comparison]:
-    """The study's pairs (:func:`pairs`) compared on ``samples`` (per arm)."""
-    return [
-        compare_samples(samples[x.name], samples[y.name],
-                        names=(x.label, y.label), margin=study.margin)
-        for x, y in pairs(study)
-    ]  # fmt: skip
 
 
 def _med(v: Sequence[float]) -> float | None:
@@ -289,15 +270,6 @@ def _seeds_text(seeds: Sequence[int]) -> str:
     if s == list(range(s[0], s[-1] + 1)) and len(s) > 2:
         return f"{s[0]}-{s[-1]}"
     return ", ".join(map(str, s))
-
-
-def pairs(study: Study) -> list[tuple[Arm, Arm]]:
-    """The pairs compared: each arm with the reference, or every pair."""
-    arms = study.scored
-    if study.reference:
-        ref = study.arms[study.reference]
-        return [(a, ref) for a in arms if a is not ref]
-    return [(a, b) for i, a in enumerate(arms) for b in arms[i + 1 :]]
 
 
 def _budget_note(study: Study, arms: dict[str, Any]) -> str:

@@ -17,6 +17,14 @@ A study file is TOML::
                                   # third is at most this (optional; the table
                                   # says which arms' are)
 
+    [primary]                     # the comparisons the study is run to make,
+                                  # declared before its runs (optional): the
+                                  # table tests them as their own family and
+                                  # the rest apart, as secondary
+    pairs = [["random", "rcga"]]  # pairs of scored arms the table compares
+    substeps = 3                  # one of [evaluation]'s (default: the first)
+    score = "full"                # or "height-term" (Eq. 4 above the ground)
+
     [defaults]                    # config.toml keys every arm starts from
     behaviour = "kick"
     generations = 10
@@ -67,10 +75,13 @@ from locustjump.runs.studyarms import Arm, parse_arms
 CURRENCIES = ("evaluations", "control-steps")
 #: the keys of a study file's top level
 TOP_KEYS = ("name", "root", "out", "seeds", "currency", "margin", "reference",
-            "flat_gain", "defaults", "evaluation", "arms")  # fmt: skip
+            "flat_gain", "primary", "defaults", "evaluation", "arms")  # fmt: skip
 #: ``flat_gain``: a share of a run's improvement, more than 0, at most 1
 FLAT_GAIN = Range(0.0, 1.0, lo_open=True)
 EVALUATION_KEYS = ("terrain_seeds", "substeps")
+PRIMARY_KEYS = ("pairs", "substeps", "score")
+#: what a primary comparison compares: the full fitness or its height term
+PRIMARY_SCORES = ("full", "height-term")
 #: most substeps a study scores at (a control step is 1/120 s)
 MAX_SUBSTEPS = 96
 
@@ -82,6 +93,25 @@ class Evaluation:
 
     terrain_seeds: tuple[int, ...] | None = None
     substeps: tuple[int | None, ...] = (None,)
+
+
+@dataclass(frozen=True)
+class Primary:
+    """The comparisons a study declares primary: each of ``pairs`` (two arm
+    names) at ``substeps`` (``None``: as trained) on ``score``."""
+
+    pairs: tuple[tuple[str, str], ...]
+    substeps: int | None
+    score: str = "full"
+
+    def names(self, x: str, y: str, substeps: int | None, score: str) -> bool:
+        """Whether the comparison of arms ``x`` and ``y`` (either order) at
+        ``substeps`` on ``score`` is one of these."""
+        return (
+            substeps == self.substeps
+            and score == self.score
+            and any({x, y} == set(p) for p in self.pairs)
+        )
 
 
 @dataclass(frozen=True)
@@ -102,6 +132,9 @@ class Study:
     #: share of a run's improvement made in its last third is at most this
     #: (declared by the study; the table applies it)
     flat_gain: float | None = None
+    #: the comparisons declared primary (``None``: none; every comparison of
+    #: the table is then one family)
+    primary: Primary | None = None
 
     @property
     def scored(self) -> list[Arm]:
@@ -175,11 +208,14 @@ def load_study(path: str | os.PathLike[str], seeds: str | None = None) -> Study:
     if sum(a.score for a in arms.values()) < 1:
         raise UserError(f"{src}: no arm is scored (every arm says score = false)")
     evaluation = _evaluation(d.get("evaluation", {}), src)
+    primary = None
+    if "primary" in d:
+        primary = _primary(d["primary"], arms, reference, evaluation, src)
     _held_out(arms, all_seeds, evaluation, src)
     _own_directories(arms, all_seeds, src)
     return Study(
         name, path, root, out, all_seeds, currency,
-        margin, reference, evaluation, arms, flat_gain,
+        margin, reference, evaluation, arms, flat_gain, primary,
     )  # fmt: skip
 
 
@@ -267,3 +303,52 @@ def _evaluation(d: Any, src: str) -> Evaluation:
             )
         subs = tuple(v)
     return Evaluation(terrains, subs)
+
+
+def _primary(
+    d: Any, arms: dict[str, Arm], reference: str | None, ev: Evaluation, src: str
+) -> Primary:
+    """The ``[primary]`` table checked against the arms and the evaluation."""
+    if not isinstance(d, dict):
+        raise UserError(f"{src}: [primary] must be a table")
+    unknown = sorted(set(d) - set(PRIMARY_KEYS))
+    if unknown:
+        raise UserError(
+            f"{src}: primary.{unknown[0]}: unknown key; choose from "
+            + ", ".join(PRIMARY_KEYS)
+        )
+    v = d.get("pairs")
+    if (
+        not isinstance(v, list)
+        or not v
+        or not all(isinstance(p, list) and len(p) == 2 for p in v)
+        or not all(isinstance(a, str) for p in v for a in p)
+    ):
+        raise UserError(
+            f"{src}: primary.pairs must be a list of arm pairs, e.g. "
+            f'[["a", "b"]], got {v!r}'
+        )
+    for x, y in v:
+        for a in (x, y):
+            if a not in arms or not arms[a].score:
+                raise UserError(f"{src}: primary.pairs: {a!r} is not a scored arm")
+        if x == y:
+            raise UserError(f"{src}: primary.pairs: {x!r} is compared with itself")
+        if reference is not None and reference not in (x, y):
+            raise UserError(
+                f"{src}: primary.pairs: the table compares each arm with the "
+                f"reference {reference!r}, not {x!r} with {y!r}"
+            )
+    subs = d.get("substeps", ev.substeps[0])
+    if subs not in ev.substeps or isinstance(subs, bool):
+        shown = [s for s in ev.substeps if s is not None] or "as trained only"
+        raise UserError(
+            f"{src}: primary.substeps {subs!r} is not one the study scores at ({shown})"
+        )
+    score = d.get("score", "full")
+    if score not in PRIMARY_SCORES:
+        raise UserError(
+            f"{src}: primary.score {score!r}: choose from {', '.join(PRIMARY_SCORES)}"
+        )
+    pairs = tuple((x, y) for x, y in v)
+    return Primary(pairs, subs, score)
