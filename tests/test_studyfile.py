@@ -302,3 +302,13 @@ def test_an_arm_of_a_fixed_seed_is_one_run_for_every_seed(tmp_path):
     path.write_text(BASE + '[arms.c]\nscore = false\nseed = 5\npath = "c"\n')
     s = load_study(path)
     assert s.arms["c"].run_dir(0) == s.arms["c"].run_dir(1) == Path("c")
+
+
+@pytest.mark.parametrize(
+    "path",
+    sorted((Path(__file__).resolve().parents[1] / "studies").glob("*.toml")),
+    ids=lambda p: p.stem,
+)
+def test_every_shipped_study_file_loads(path):
+    study = load_study(path)
+    assert study.name == path.stem and study.scored
