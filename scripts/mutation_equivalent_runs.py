@@ -140,6 +140,17 @@ RUNS: dict[str, tuple[str, str]] = {
         "every place is written in the loop (it visits a permutation of the "
         "indices) before the list is returned",
     ),
+    **alike(
+        "locustjump.runs.study_pairs.x_families",
+        "a resolution's rows are compared() over pairs(study): one per pair",
+        {24: "strict=None", 27: "zip(pairs(study), rows, )", 29: "strict=False"},
+    ),
+    "locustjump.runs.study_pairs.x_families__mutmut_21": (
+        "break",
+        "rows are missing at every resolution or at none: an arm with fewer "
+        "than 2 runs has fewer at all, and a height term is a task's, at every "
+        "resolution or none",
+    ),
     "locustjump.cli.resolve.x__checked__mutmut_12": (
         'option.lstrip("XX-XX")',
         "lstrip takes a set of characters: X and - strip an option's leading "

@@ -25,7 +25,8 @@ def test_a_declared_primary_is_a_family_of_its_own(tmp_path):
     md, data = st.make_table(study, _rows())
     assert "Declared primary (the study file's [primary]): 1 comparison, one " \
         "family (Holm–Bonferroni;" in md  # fmt: skip
-    assert "The other 3, secondary, as one family (Holm" in md
+    assert "|\n\nThe other 3, secondary, as one family (Holm" in md
+    assert "|\n\nDeclared primary (" in md  # each family after a blank line
     assert "as one family (Holm–Bonferroni" in md and "All 4" not in md
     got = [(r["a"], r["where"], r["p_holm"], r["primary"]) for r in data["holm"]]
     assert got == [
@@ -64,8 +65,8 @@ def test_a_primary_the_table_does_not_make_is_said(tmp_path):
     """c has no height term: no comparison on it, so none primary."""
     path = _with(tmp_path, 'pairs = [["c", "b"]]\nscore = "height-term"')
     md, data = st.make_table(load_study(path), _rows())
-    assert "No comparison declared primary (the study file's [primary]) is in " \
-        "this table: none is tested as such." in md  # fmt: skip
+    assert "|\n\nNo comparison declared primary (the study file's [primary]) " \
+        "is in this table: none is tested as such.\n\nHow to read" in md  # fmt: skip
     assert "holm" not in data
 
 

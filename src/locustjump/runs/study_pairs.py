@@ -49,8 +49,10 @@ def families(study: Study, out: dict[str, Any]) -> list[str]:
         ("pairs_height_term", "height-term", ", height term"),
     ):
         for sub in study.evaluation.substeps:
-            rows = out.get(key, {}).get(str(sub), [])
-            for (x, y), c in zip(pairs(study), rows, strict=False):
+            rows = out.get(key, {}).get(str(sub))
+            if not rows:  # not compared there (an arm with fewer than 2 runs)
+                continue
+            for (x, y), c in zip(pairs(study), rows, strict=True):
                 declared = study.primary is not None and study.primary.names(
                     x.name, y.name, sub, score
                 )
