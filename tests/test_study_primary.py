@@ -40,6 +40,23 @@ def test_a_declared_primary_is_a_family_of_its_own(tmp_path):
     assert "primary" not in plain_data["holm"][0] and "All 4 comparisons" in plain
 
 
+def test_the_plan_says_what_is_primary(tmp_path, monkeypatch):
+    import locustjump.runs.study_plan as plan
+
+    monkeypatch.setattr(plan, "throughput", lambda *a, **k: 1000.0)
+    path = _with(tmp_path, 'pairs = [["a", "b"], ["c", "b"]]\nscore = "height-term"')
+    text = plan.dry_run(load_study(path), backend=None)
+    assert "\nDeclared primary: a - b; c - b (3 substeps, the height term); the " \
+        "table's other comparisons are secondary." in text  # fmt: skip
+    path.write_text(path.read_text().replace('score = "height-term"', "substeps = 12"))
+    assert "(12 substeps, the full fitness)" in load_study(path).primary.describe()
+    text = plan.dry_run(_study(tmp_path), backend=None)
+    assert "\nNo primary comparison declared: the table takes all its " \
+        "comparisons as one family." in text  # fmt: skip
+    as_trained = Primary((("a", "b"),), None)
+    assert as_trained.describe() == "a - b (as trained, the full fitness)"
+
+
 def test_two_primaries_share_their_family_and_order_does_not_matter(tmp_path):
     path = _with(tmp_path, 'pairs = [["a", "b"], ["c", "b"]]')  # first substeps: 3
     md, data = st.make_table(load_study(path), _rows())

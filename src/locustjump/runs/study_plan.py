@@ -109,6 +109,13 @@ def dry_run(study: Study, backend: Backend, where: str = "threads") -> str:
         f"throughput of {PROBE_STEPS}-step episodes of random genomes on this "
         f"machine, {where}; a generation evaluates the whole population).",
     ]
+    lines.append(
+        f"Declared primary: {study.primary.describe()}; the table's other "
+        "comparisons are secondary."
+        if study.primary
+        else "No primary comparison declared: the table takes all its "
+        "comparisons as one family."
+    )
     if busy >= BUSY_LOAD:
         lines.append(
             f"The machine was busy when they were measured (load average {busy:.1f} "

@@ -104,6 +104,13 @@ class Primary:
     substeps: int | None
     score: str = "full"
 
+    def describe(self) -> str:
+        """In words: ``a - b; c - b (3 substeps, the full fitness)``."""
+        pairs = "; ".join(f"{x} - {y}" for x, y in self.pairs)
+        where = "as trained" if self.substeps is None else f"{self.substeps} substeps"
+        score = "the full fitness" if self.score == "full" else "the height term"
+        return f"{pairs} ({where}, {score})"
+
     def names(self, x: str, y: str, substeps: int | None, score: str) -> bool:
         """Whether the comparison of arms ``x`` and ``y`` (either order) at
         ``substeps`` on ``score`` is one of these."""
