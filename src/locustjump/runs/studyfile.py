@@ -281,15 +281,19 @@ def _seeds(v: Any, key: str, src: str) -> tuple[int, ...]:
         raise UserError(f"{src}: {key} {e}") from None
 
 
+def _known(d: dict[str, Any], keys: tuple[str, ...], table: str, src: str) -> None:
+    """``UserError`` naming the first key of table ``d`` not among ``keys``."""
+    unknown = sorted(set(d) - set(keys))
+    if unknown:
+        raise UserError(
+            f"{src}: {table}.{unknown[0]}: unknown key; choose from " + ", ".join(keys)
+        )
+
+
 def _evaluation(d: Any, src: str) -> Evaluation:
     if not isinstance(d, dict):
         raise UserError(f"{src}: [evaluation] must be a table")
-    unknown = sorted(set(d) - set(EVALUATION_KEYS))
-    if unknown:
-        raise UserError(
-            f"{src}: evaluation.{unknown[0]}: unknown key; choose from "
-            + ", ".join(EVALUATION_KEYS)
-        )
+    _known(d, EVALUATION_KEYS, "evaluation", src)
     terrains = None
     if "terrain_seeds" in d:
         terrains = _seeds(d["terrain_seeds"], "evaluation.terrain_seeds", src)
@@ -318,12 +322,7 @@ def _primary(
     """The ``[primary]`` table checked against the arms and the evaluation."""
     if not isinstance(d, dict):
         raise UserError(f"{src}: [primary] must be a table")
-    unknown = sorted(set(d) - set(PRIMARY_KEYS))
-    if unknown:
-        raise UserError(
-            f"{src}: primary.{unknown[0]}: unknown key; choose from "
-            + ", ".join(PRIMARY_KEYS)
-        )
+    _known(d, PRIMARY_KEYS, "primary", src)
     v = d.get("pairs")
     if (
         not isinstance(v, list)
