@@ -2,16 +2,15 @@
 measurements that ``scripts/wall_takeoff.py`` reports.
 
 A recorded episode's servo targets are replayed, open loop, on one ``MjData``
-with the engine's arithmetic, checked against the record. At each physics
-substep each contact's force on the creature (``mj_contactForce`` at the
-substep's start state, contact frame to world) times the timestep is summed
-by world geom and by pair, with the work of the contacts, servos, joint
-damping and constraints. A ``Budget`` of control steps closes the impulses
+with the engine's arithmetic, checked against the record. At each substep
+each contact's force on the creature (``mj_contactForce``, contact frame to
+world) times the timestep is summed by world geom and by pair, with the work
+of contacts, servos, joint damping and constraints, and the wall contacts'
+distance from the face. A ``Budget`` of control steps closes the impulses
 (floor, rubble, walls; up, away from the side wall, forward) against gravity
-and the momentum's change, and the work against the energy's. A jump is
-measured from ``LEAD`` steps before its apex; its take-off is the last step
-in which the floor and the rubble pushed the creature up.
-"""
+and the momentum's change, the work against the energy's. A jump is measured
+from ``LEAD`` steps before its apex; its take-off is the last step in which
+the floor and the rubble pushed the creature up."""
 
 from __future__ import annotations
 
@@ -90,6 +89,7 @@ class Replay:
         self.mass = float(self.m.body_subtreemass[1])
         self.limit = self.m.actuator_forcerange[:, 1].copy()
         self.touch = np.zeros(self.m.nsensordata)
+        self.gap = np.inf
         self._f6 = np.zeros(6)
         self._vel = np.zeros(6)
 
@@ -107,10 +107,12 @@ class Replay:
 
     def step(self, ctrl: np.ndarray, meter: Meter | None = None) -> set[int]:
         """One control step with servo targets ``ctrl``; the walls it touched
-        (inside a wall's margin counts, as in the engine's record)."""
+        (inside a wall's margin counts, as in the engine's record). Sets
+        ``gap``: the least distance of a wall contact from its face (m)."""
         m, d = self.m, self.d
         d.ctrl[:] = ctrl
         self.touch[:] = -np.inf
+        self.gap = np.inf
         walls: set[int] = set()
         for _ in range(self.substeps):
             v = d.qvel.copy()
@@ -119,6 +121,9 @@ class Replay:
             n = d.ncon
             geoms = np.concatenate([d.contact.geom1[:n], d.contact.geom2[:n]])
             walls.update(int(g) for g in geoms[np.isin(geoms, self.walls)])
+            hit = np.isin(geoms[:n], self.walls) | np.isin(geoms[n:], self.walls)
+            gap = np.min(d.contact.dist[:n][hit], initial=np.inf)
+            self.gap = min(self.gap, float(gap))
             if meter is not None:
                 meter.add(self, v)
         return walls
@@ -207,6 +212,7 @@ class Trace:
     deviation: float  #: max |qpos - the engine's| over steps 0 .. b
     obs_equal: bool  #: the inputs equal the engine's at every step
     wall_mismatch: list[int]  #: steps whose wall flag differs from the record
+    gap: np.ndarray  #: per step a + 1 .. b: Replay.gap (inf: no wall contact)
     kind: np.ndarray  #: per geom (Replay.kind)
     geoms: list[str]  #: the geoms' names
     weight: float  #: the creature's weight, N
@@ -226,6 +232,7 @@ def replay(r: Recorded, a: int, b: int) -> Trace:
     dev = float(np.abs(rp.d.qpos - qpos[0]).max())
     same = bool(np.array_equal(rp.obs()[0], obs[0]))
     mismatch: list[int] = []
+    gaps: list[float] = []
     meters: list[Meter] = []
     states = []
     for t in range(b + 1):
@@ -235,13 +242,14 @@ def replay(r: Recorded, a: int, b: int) -> Trace:
                 mismatch.append(t)
             if meter is not None:
                 meters.append(meter)
+                gaps.append(rp.gap)
             dev = max(dev, float(np.abs(rp.d.qpos - qpos[t]).max()))
             same = same and bool(np.array_equal(rp.obs()[0], obs[t]))
         if t >= a:
             states.append(rp.state())
     return Trace(a, b, meters, np.array([s[0] for s in states]),
                  np.array([s[1] for s in states]), np.array([s[2] for s in states]),
-                 dev, same, mismatch, rp.kind, rp.names,
+                 dev, same, mismatch, np.array(gaps), rp.kind, rp.names,
                  rp.mass * float(-rp.m.opt.gravity[2]), rp.joints)  # fmt: skip
 
 

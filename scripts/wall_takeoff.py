@@ -29,7 +29,7 @@ and prints Markdown tables:
    last step in which the floor and the rubble push up; the flight): the
    run's highest jump that touches no wall in the ``QUIET`` steps to its
    apex (``--compare auto``: searched over terrains 100-139 and the flat
-   floor at 12 substeps), and the same creature's highest flat-floor jump,
+   floor at 12 substeps), and a flat-floor jump at the kick's ceiling (seed 0),
    ``results/study/kick-apex-cma-s0`` ("The kick's ceiling"). And per
    control step of the wall jump's push, the mean force by class.
 3. **Counterfactuals.** From the recorded state after control step 1290 the
@@ -70,7 +70,7 @@ from locustjump.sim.scene import Flat, Scene
 from locustjump.tasks.base import Behaviour
 
 RUN = Path("results/study/debris-pipeline-s0")
-#: the same creature's highest flat-floor jump ("The kick's ceiling")
+#: a flat-floor jump at the kick's ceiling (seed 0 of "The kick's ceiling")
 CEILING = Path("results/study/kick-apex-cma-s0")
 TERRAIN = 139  #: the episode of docs/science.md
 SUBSTEPS = 12
@@ -222,6 +222,12 @@ def report(compare: str, per_step: bool, backend: Backend) -> None:
                f"step {to}; the body centre {qpos[to, 2]:.3f} m high; "
                f"{face(to - SHOW):.3f} m from the side wall's face {SHOW} steps "
                f"before, {face(to):.3f} m at take-off"))  # fmt: skip
+    gaps = tr.gap[: to - tr.a][np.isfinite(tr.gap[: to - tr.a])]
+    print(_row(f"wall jump: how far its wall contacts are from the wall's face "
+               f"(MuJoCo's `dist`), steps {tr.a + 1}-{to}",
+               f"{1e3 * gaps.min():.1f}-{1e3 * gaps.max():.1f} mm; the walls' "
+               f"contact margin {1e3 * model.geom_margin[side[0]]:.0f} mm"),
+          )  # fmt: skip
     print(_row(f"no wall: the highest jump touching no wall in the {cb.QUIET} steps "
                f"to its apex ({searched} episodes of this run)",
                f"{other.label}: {other.height:.4f} m above the ground, body rise "

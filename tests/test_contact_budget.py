@@ -39,6 +39,7 @@ def test_the_replay_is_the_engines_episode(ceiling):
     assert apex == 83  # docs/science.md's flat ceiling: apex at step 83
     assert tr.deviation == 0.0 and tr.obs_equal and tr.wall_mismatch == []
     assert len(tr.meters) == apex and tr.momentum.shape == (apex + 1, 3)
+    assert tr.gap.shape == (apex,) and np.isinf(tr.gap).all()  # no wall here
 
 
 def test_the_impulses_close_the_momentum_budget(ceiling):

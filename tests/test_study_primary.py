@@ -1,6 +1,6 @@
 """A study file's ``[primary]``: the comparisons declared before the runs,
 tested as their own family in the table, the rest apart as secondary
-(runs/studyfile.py's ``_primary``, runs/study_table.py's ``_families``)."""
+(runs/studyfile.py's ``_primary``, runs/study_pairs.py's ``families``)."""
 
 import pytest
 
@@ -21,7 +21,7 @@ def test_a_declared_primary_is_a_family_of_its_own(tmp_path):
     """``_rows`` compares a and c with the reference b (c has no height term,
     so none on it): 3 seeds a side completely apart, Mann–Whitney p 0.1 each."""
     study = load_study(_with(tmp_path, 'pairs = [["b", "a"]]\nsubsteps = 12'))
-    assert study.primary == Primary((("b", "a"),), 12, "full")
+    assert study.primary == Primary((("b", "a"),), (12,), "full")
     md, data = st.make_table(study, _rows())
     assert "Declared primary (the study file's [primary]): 1 comparison, one " \
         "family (Holm–Bonferroni;" in md  # fmt: skip
@@ -50,10 +50,15 @@ def test_the_plan_says_what_is_primary(tmp_path, monkeypatch):
         "table's other comparisons are secondary." in text  # fmt: skip
     path.write_text(path.read_text().replace('score = "height-term"', "substeps = 12"))
     assert "(12 substeps, the full fitness)" in load_study(path).primary.describe()
+    path.write_text(path.read_text().replace("substeps = 12", "substeps = [12, 3]"))
+    both = load_study(path).primary
+    assert (
+        both.substeps == (12, 3) and "(12 and 3 substeps, the full" in both.describe()
+    )
     text = plan.dry_run(_study(tmp_path), backend=None)
     assert "\nNo primary comparison declared: the table takes all its " \
         "comparisons as one family." in text  # fmt: skip
-    as_trained = Primary((("a", "b"),), None)
+    as_trained = Primary((("a", "b"),), (None,))
     assert as_trained.describe() == "a - b (as trained, the full fitness)"
 
 
@@ -64,6 +69,26 @@ def test_two_primaries_share_their_family_and_order_does_not_matter(tmp_path):
     assert first == [("arm A", "3 substeps"), ("arm C", "3 substeps")]
     assert all(r["p_holm"] == pytest.approx(0.2) for r in data["holm"])
     assert "2 comparisons, one family" in md and "The other 2, secondary" in md
+
+
+def test_a_primary_at_both_resolutions(tmp_path):
+    path = _with(tmp_path, 'pairs = [["a", "b"], ["c", "b"]]\nsubsteps = [3, 12]')
+    md, data = st.make_table(load_study(path), _rows())
+    assert [r["primary"] for r in data["holm"]] == [True] * 4
+    assert "4 comparisons, one family" in md and "secondary" not in md
+    rows = [r for r in _rows() if r["arm"] != "c"]  # a and b: with a height term
+    path = _with(tmp_path, 'pairs = [["a", "b"]]\nsubsteps = [3, 12]')
+    path.write_text(path.read_text().replace("[arms.c]", "[arms.c]\nscore = false"))
+    md, data = st.make_table(load_study(path), rows)
+    assert "2 comparisons, one family" in md and "The other 2, secondary" in md
+    for r in rows:  # none: a - b at 3 and 12 substeps only
+        for at in r["at"].values():
+            at["height_term"] = None
+    path = _with(tmp_path, 'pairs = [["a", "b"]]')
+    path.write_text(path.read_text().replace("[arms.c]", "[arms.c]\nscore = false"))
+    md, data = st.make_table(load_study(path), rows)
+    assert "|\n\nThe other comparison, secondary, alone (Holm" in md
+    assert [r["p_holm"] for r in data["holm"]] == [pytest.approx(0.1)] * 2
 
 
 def test_a_primary_on_the_height_term(tmp_path):
@@ -83,8 +108,10 @@ def test_a_primary_the_table_does_not_make_is_said(tmp_path):
     path = _with(tmp_path, 'pairs = [["c", "b"]]\nscore = "height-term"')
     md, data = st.make_table(load_study(path), _rows())
     assert "|\n\nNo comparison declared primary (the study file's [primary]) " \
-        "is in this table: none is tested as such.\n\nHow to read" in md  # fmt: skip
-    assert "holm" not in data
+        "is in this table: none is tested as such.\n\nAll 4 comparisons above " \
+        "as one family (Holm" in md  # fmt: skip
+    assert [r["primary"] for r in data["holm"]] == [False] * 4
+    assert [r["p_holm"] for r in data["holm"]] == [pytest.approx(0.4)] * 4
 
 
 @pytest.mark.parametrize(
@@ -108,9 +135,13 @@ def test_a_primary_the_table_does_not_make_is_said(tmp_path):
         ('pairs = [["a", "c"]]', "primary.pairs: the table compares each arm "
          "with the reference 'b', not 'a' with 'c'"),
         ('pairs = [["a", "b"]]\nsubsteps = 6', "primary.substeps 6 is not one "
-         "the study scores at ([3, 12])"),
+         "the study scores at, or a list of them ([3, 12])"),
         ('pairs = [["a", "b"]]\nsubsteps = true', "primary.substeps True is not "
-         "one the study scores at ([3, 12])"),
+         "one the study scores at, or a list of them ([3, 12])"),
+        ('pairs = [["a", "b"]]\nsubsteps = 3.0', "primary.substeps 3.0 is not "
+         "one the study scores at, or a list of them ([3, 12])"),
+        ('pairs = [["a", "b"]]\nsubsteps = [3, 6]', "primary.substeps [3, 6] is "
+         "not one the study scores at, or a list of them ([3, 12])"),
         ('pairs = [["a", "b"]]\nscore = "distance"', "primary.score 'distance': "
          "choose from full, height-term"),
     ],
@@ -126,10 +157,11 @@ def test_a_wrong_primary_is_named(tmp_path, table, message):
 def test_a_study_scored_as_trained_takes_no_substeps(tmp_path):
     path = _with(tmp_path, 'pairs = [["a", "b"]]')
     path.write_text(path.read_text().replace("substeps = [3, 12]\n", ""))
-    assert load_study(path).primary == Primary((("a", "b"),), None, "full")
+    assert load_study(path).primary == Primary((("a", "b"),), (None,), "full")
     path.write_text(path.read_text() + "substeps = 3\n")
     assert user_error(load_study, path) == (
-        f"{path}: primary.substeps 3 is not one the study scores at (as trained only)"
+        f"{path}: primary.substeps 3 is not one the study scores at, or a list "
+        "of them (as trained only)"
     )
 
 

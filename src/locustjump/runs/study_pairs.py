@@ -4,8 +4,10 @@ Each scored arm is compared with the study's reference, or, without one,
 every pair of scored arms. The comparisons of a table (pairs x physics
 resolutions, and on debris the height term alone) are one family for the
 Holm–Bonferroni correction, unless the study file declares some primary
-(``[primary]``): those are then a family of their own, tested before the
-runs' results were known, and the rest a second, secondary family.
+(``[primary]``, declared before the runs' results were known): those are
+then a family of their own and the rest a second, secondary family. Where
+none of the declared ones is in a table, its comparisons are one family
+again, and the table says so.
 """
 
 from __future__ import annotations
@@ -63,11 +65,16 @@ def families(study: Study, out: dict[str, Any]) -> list[str]:
             return []
         text, out["holm"] = family_table([(w, c) for w, c, _ in tagged])
         return ["", text]
-    first = [(w, c) for w, c, p in tagged if p]
+    first = [(w, c) for w, c, p in tagged if p and c["p"] is not None]
     rest = [(w, c) for w, c, p in tagged if not p]
     if not first:
-        return ["", "No comparison declared primary (the study file's "
-                "[primary]) is in this table: none is tested as such."]  # fmt: skip
+        lines = ["", "No comparison declared primary (the study file's "
+                 "[primary]) is in this table: none is tested as such."]  # fmt: skip
+        if len(rest) > 1:
+            text, held = family_table(rest)
+            lines += ["", text]
+            out["holm"] = [dict(r, primary=False) for r in held]
+        return lines
     n = len(first)
     text, held = family_table(first, title=(
         f"Declared primary (the study file's [primary]): {n} comparison"
@@ -75,9 +82,10 @@ def families(study: Study, out: dict[str, Any]) -> list[str]:
     lines = ["", text]
     out["holm"] = [dict(r, primary=True) for r in held]
     if rest:
-        text, other = family_table(
-            rest, title=f"The other {len(rest)}, secondary, as one family"
-        )
+        k = len(rest)
+        title = ("The other comparison, secondary, alone" if k == 1 else
+                 f"The other {k}, secondary, as one family")  # fmt: skip
+        text, other = family_table(rest, title=title)
         lines += ["", text]
         out["holm"] += [dict(r, primary=False) for r in other]
     return lines

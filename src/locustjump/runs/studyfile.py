@@ -22,7 +22,7 @@ A study file is TOML::
                                   # table tests them as their own family and
                                   # the rest apart, as secondary
     pairs = [["random", "rcga"]]  # pairs of scored arms the table compares
-    substeps = 3                  # one of [evaluation]'s (default: the first)
+    substeps = [3, 12]            # of [evaluation]'s (default: the first)
     score = "full"                # or "height-term" (Eq. 4 above the ground)
 
     [defaults]                    # config.toml keys every arm starts from
@@ -98,16 +98,17 @@ class Evaluation:
 @dataclass(frozen=True)
 class Primary:
     """The comparisons a study declares primary: each of ``pairs`` (two arm
-    names) at ``substeps`` (``None``: as trained) on ``score``."""
+    names) at each of ``substeps`` (``None``: as trained) on ``score``."""
 
     pairs: tuple[tuple[str, str], ...]
-    substeps: int | None
+    substeps: tuple[int | None, ...]
     score: str = "full"
 
     def describe(self) -> str:
-        """In words: ``a - b; c - b (3 substeps, the full fitness)``."""
+        """In words: ``a - b; c - b (3 and 12 substeps, the full fitness)``."""
         pairs = "; ".join(f"{x} - {y}" for x, y in self.pairs)
-        where = "as trained" if self.substeps is None else f"{self.substeps} substeps"
+        subs = [str(s) for s in self.substeps if s is not None]
+        where = (" and ".join(subs) + " substeps") if subs else "as trained"
         score = "the full fitness" if self.score == "full" else "the height term"
         return f"{pairs} ({where}, {score})"
 
@@ -115,7 +116,7 @@ class Primary:
         """Whether the comparison of arms ``x`` and ``y`` (either order) at
         ``substeps`` on ``score`` is one of these."""
         return (
-            substeps == self.substeps
+            substeps in self.substeps
             and score == self.score
             and any({x, y} == set(p) for p in self.pairs)
         )
@@ -346,15 +347,18 @@ def _primary(
                 f"reference {reference!r}, not {x!r} with {y!r}"
             )
     subs = d.get("substeps", ev.substeps[0])
-    if subs not in ev.substeps or isinstance(subs, bool):
-        shown = [s for s in ev.substeps if s is not None] or "as trained only"
-        raise UserError(
-            f"{src}: primary.substeps {subs!r} is not one the study scores at ({shown})"
-        )
+    listed: list[Any] = subs if isinstance(subs, list) and subs else [subs]
+    for sub in listed:
+        if sub not in ev.substeps or isinstance(sub, (bool, float)):
+            shown = [s for s in ev.substeps if s is not None] or "as trained only"
+            raise UserError(
+                f"{src}: primary.substeps {subs!r} is not one the study scores "
+                f"at, or a list of them ({shown})"
+            )
     score = d.get("score", "full")
     if score not in PRIMARY_SCORES:
         raise UserError(
             f"{src}: primary.score {score!r}: choose from {', '.join(PRIMARY_SCORES)}"
         )
     pairs = tuple((x, y) for x, y in v)
-    return Primary(pairs, subs, score)
+    return Primary(pairs, tuple(dict.fromkeys(listed)), score)
