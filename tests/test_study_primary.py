@@ -112,6 +112,19 @@ def test_a_primary_the_table_does_not_make_is_said(tmp_path):
         "as one family (Holm" in md  # fmt: skip
     assert [r["primary"] for r in data["holm"]] == [False] * 4
     assert [r["p_holm"] for r in data["holm"]] == [pytest.approx(0.4)] * 4
+    assert data["primary"] == {"pairs": [["c", "b"]], "substeps": [3],
+                               "score": "height-term"}  # fmt: skip
+    rows = [r for r in _rows() if r["arm"] != "c"]
+    for r in rows:  # no height term: a - b at 3 and 12 substeps only
+        for at in r["at"].values():
+            at["height_term"] = None
+    path = _with(tmp_path, 'pairs = [["a", "b"]]\nscore = "height-term"')
+    path.write_text(path.read_text().replace("[arms.c]", "[arms.c]\nscore = false"))
+    md, data = st.make_table(load_study(path), rows)
+    assert "All 2 comparisons above as one family" in md and len(data["holm"]) == 2
+    path.write_text(path.read_text().replace("[3, 12]", "[3]"))
+    md, data = st.make_table(load_study(path), rows)  # one comparison: no family
+    assert "none is tested as such.\n\nHow to read" in md and "holm" not in data
 
 
 @pytest.mark.parametrize(

@@ -44,7 +44,8 @@ def families(study: Study, out: dict[str, Any]) -> list[str]:
     """The table's comparisons as families (Holm–Bonferroni within each):
     all as one, or, where the study declares primary ones, those and the
     rest (secondary) apart. ``out`` is the table's JSON so far (its ``pairs``
-    and ``pairs_height_term``); sets its ``holm``; returns Markdown lines."""
+    and ``pairs_height_term``); sets its ``holm``, and its ``primary`` to what
+    the study file declares; returns Markdown lines."""
     tagged: list[tuple[str, dict[str, Any], bool]] = []  # (scores, row, primary?)
     for key, score, tag in (
         ("pairs", "full", ""),
@@ -65,6 +66,9 @@ def families(study: Study, out: dict[str, Any]) -> list[str]:
             return []
         text, out["holm"] = family_table([(w, c) for w, c, _ in tagged])
         return ["", text]
+    d = study.primary  # what was declared, beside what it gave
+    out["primary"] = {"pairs": [list(x) for x in d.pairs],
+                      "substeps": list(d.substeps), "score": d.score}  # fmt: skip
     first = [(w, c) for w, c, p in tagged if p and c["p"] is not None]
     rest = [(w, c) for w, c, p in tagged if not p]
     if not first:
