@@ -331,4 +331,44 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
         "np.array(a.dims, )",
         _DIMS_INT,
     ),
+    # sim/bvh.py: NumPy's defaults, and what the tree's layout never reaches
+    **alike(
+        "locustjump.sim.bvh.x__split",
+        "a ufunc's accumulate runs along axis 0 by default",
+        {
+            12: "np.minimum.accumulate(lo[order], )",
+            20: "np.maximum.accumulate(hi[order], )",
+            28: "accumulate(lo[order][::-1], )",
+            39: "accumulate(hi[order][::-1], )",
+        },
+    ),  # fmt: skip
+    **alike(
+        "locustjump.sim.bvh.x_rebuild_bvh",
+        "the last node of a pre-order tree is a leaf, which the loop skips "
+        "(range(num - 2, ...) leaves it out, -2 adds node -1, the same leaf)",
+        {109: "range(num - 2, -1, -1)", 111: "range(num - 1, -2, -1)"},
+    ),
+    **alike(
+        "locustjump.sim.bvh.x_rebuild_bvh",
+        "the arrays are written into MuJoCo's own (bvh_child, bvh_nodeid, "
+        "bvh_depth), which cast the small integers they hold",
+        {
+            38: "dtype=None",
+            41: "np.full((num, 2), -1, )",
+            48: "dtype=None",
+            51: "np.full(num, -1, )",
+            56: "dtype=None",
+            58: "np.zeros(num, )",
+        },
+    ),  # fmt: skip
+    **alike(
+        "locustjump.sim.bvh.x_rebuild_bvh",
+        "the root has no parent: any negative parent is skipped, and its side "
+        "is never read",
+        {66: "0, -2, 0)", 67: "0, -1, 1)"},
+    ),
+    "locustjump.sim.bvh.x_rebuild_bvh__mutmut_144": (
+        "np.finfo(None).eps",
+        "np.finfo(None) is float64's, as np.finfo(float)",
+    ),
 }
