@@ -367,6 +367,11 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
         "is never read",
         {66: "0, -2, 0)", 67: "0, -1, 1)"},
     ),
+    "locustjump.tasks.starts.x_ground_top__mutmut_11": (
+        "np.linspace(-bl, bl, 102)",
+        "101 points 0.02 body lengths apart look at every cell of the height "
+        "grid (HEIGHT_CELL_BL, 0.02); 102, a little closer, at every one too",
+    ),
     "locustjump.sim.bvh.x_rebuild_bvh__mutmut_144": (
         "np.finfo(None).eps",
         "np.finfo(None) is float64's, as np.finfo(float)",

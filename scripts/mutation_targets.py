@@ -75,6 +75,7 @@ MODULES: dict[str, tuple[str, ...]] = {
     # the ground's height on debris, which every debris fitness subtracts
     "sim/debris.py": ("tests/test_rubble.py",),
     "sim/bvh.py": ("tests/test_bvh.py", "tests/test_debris.py"),
+    "tasks/starts.py": ("tests/test_starts.py", "tests/test_recovery.py"),
     # the jumps, falls and heights every results table counts
     "sim/analysis.py": ("tests/test_analysis.py",),
     # a repertoire's file: written without pickle, read back only as written
