@@ -367,6 +367,31 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
         "is never read",
         {66: "0, -2, 0)", 67: "0, -1, 1)"},
     ),
+    # sim/rubble.py: equalities of continuous draws, falsy flags, one cell more
+    "locustjump.sim.rubble.x__boxes__mutmut_80": (
+        "out[:, 1]) > d.clearing + reach]",
+        "a box centre exactly at the clearing's edge plus its reach has "
+        "probability 0 (uniform doubles)",
+    ),
+    **alike(
+        "locustjump.sim.rubble.x__height_grid",
+        "a cell centre exactly on a box's edge has probability 0 (uniform "
+        "positions and yaws)",
+        {108: "(np.abs(u) < sx / 2)", 112: "(np.abs(v) < sy / 2)"},
+    ),
+    **alike(
+        "locustjump.sim.rubble.x__height_grid",
+        "one cell more past a box's reach is tried, and found outside it",
+        {72: "min(nx, i1 + 3)", 87: "min(ny, j1 + 3)"},
+    ),
+    "locustjump.sim.rubble.x__boxes__mutmut_82": (
+        "out.flags.writeable = None",
+        "None sets the flag as False does",
+    ),
+    "locustjump.sim.rubble.x__height_grid__mutmut_131": (
+        "grid.flags.writeable = None",
+        "None sets the flag as False does",
+    ),
     "locustjump.tasks.starts.x_ground_top__mutmut_11": (
         "np.linspace(-bl, bl, 102)",
         "101 points 0.02 body lengths apart look at every cell of the height "

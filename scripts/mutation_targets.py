@@ -76,6 +76,7 @@ MODULES: dict[str, tuple[str, ...]] = {
     "sim/debris.py": ("tests/test_rubble.py",),
     "sim/bvh.py": ("tests/test_bvh.py", "tests/test_debris.py"),
     "tasks/starts.py": ("tests/test_starts.py", "tests/test_recovery.py"),
+    "sim/rubble.py": ("tests/test_rubble.py",),
     # the jumps, falls and heights every results table counts
     "sim/analysis.py": ("tests/test_analysis.py",),
     # a repertoire's file: written without pickle, read back only as written

@@ -18,8 +18,7 @@ HEIGHT_CELL_BL = 0.02
 WALL_THICKNESS_BL = 1.0
 
 
-@lru_cache(maxsize=64)
-def boxes(d: Any) -> np.ndarray:
+def _boxes(d: Any) -> np.ndarray:
     """The boxes of terrain ``d`` in body lengths (yaw in radians)."""
     rng = np.random.default_rng(d.seed)
     n = d.count
@@ -37,8 +36,7 @@ def boxes(d: Any) -> np.ndarray:
     return out
 
 
-@lru_cache(maxsize=16)
-def height_grid(d: Any, body_length: float) -> tuple[float, float, float, np.ndarray]:
+def _height_grid(d: Any, body_length: float) -> tuple[float, float, float, np.ndarray]:
     """(x0, y0, cell, grid (nx, ny)): box tops rasterised at cell centres."""
     rows = d.boxes(body_length)
     cell = HEIGHT_CELL_BL * body_length
@@ -61,3 +59,9 @@ def height_grid(d: Any, body_length: float) -> tuple[float, float, float, np.nda
         np.maximum(view, np.where(inside, h, 0.0), out=view)
     grid.flags.writeable = False
     return x0, y0, cell, grid
+
+
+# cached per field (a field is a frozen dataclass), and decorated here, apart
+# from the functions, so that mutation testing can reach their bodies
+boxes = lru_cache(maxsize=64)(_boxes)
+height_grid = lru_cache(maxsize=16)(_height_grid)
