@@ -1,0 +1,79 @@
+"""The equivalent mutants of the debris field's geometry (``sim/bvh.py``,
+``sim/rubble.py``) and the start states (``tasks/starts.py``), taken on
+2026-11-27, each with the reason (``scripts/mutation_equivalent.py`` adds
+them to the rest)."""
+
+from mutation_reasons import alike
+
+SIM: dict[str, tuple[str, str]] = {
+    # sim/bvh.py: NumPy's defaults, and what the tree's layout never reaches
+    **alike(
+        "locustjump.sim.bvh.x__split",
+        "a ufunc's accumulate runs along axis 0 by default",
+        {
+            12: "np.minimum.accumulate(lo[order], )",
+            20: "np.maximum.accumulate(hi[order], )",
+            28: "accumulate(lo[order][::-1], )",
+            39: "accumulate(hi[order][::-1], )",
+        },
+    ),  # fmt: skip
+    **alike(
+        "locustjump.sim.bvh.x_rebuild_bvh",
+        "the last node of a pre-order tree is a leaf, which the loop skips "
+        "(range(num - 2, ...) leaves it out, -2 adds node -1, the same leaf)",
+        {109: "range(num - 2, -1, -1)", 111: "range(num - 1, -2, -1)"},
+    ),
+    **alike(
+        "locustjump.sim.bvh.x_rebuild_bvh",
+        "the arrays are written into MuJoCo's own (bvh_child, bvh_nodeid, "
+        "bvh_depth), which cast the small integers they hold",
+        {
+            38: "dtype=None",
+            41: "np.full((num, 2), -1, )",
+            48: "dtype=None",
+            51: "np.full(num, -1, )",
+            56: "dtype=None",
+            58: "np.zeros(num, )",
+        },
+    ),  # fmt: skip
+    **alike(
+        "locustjump.sim.bvh.x_rebuild_bvh",
+        "the root has no parent: any negative parent is skipped, and its side "
+        "is never read",
+        {66: "0, -2, 0)", 67: "0, -1, 1)"},
+    ),
+    # sim/rubble.py: equalities of continuous draws, falsy flags, one cell more
+    "locustjump.sim.rubble.x__boxes__mutmut_80": (
+        "out[:, 1]) > d.clearing + reach]",
+        "a box centre exactly at the clearing's edge plus its reach has "
+        "probability 0 (uniform doubles)",
+    ),
+    **alike(
+        "locustjump.sim.rubble.x__height_grid",
+        "a cell centre exactly on a box's edge has probability 0 (uniform "
+        "positions and yaws)",
+        {108: "(np.abs(u) < sx / 2)", 112: "(np.abs(v) < sy / 2)"},
+    ),
+    **alike(
+        "locustjump.sim.rubble.x__height_grid",
+        "one cell more past a box's reach is tried, and found outside it",
+        {72: "min(nx, i1 + 3)", 87: "min(ny, j1 + 3)"},
+    ),
+    "locustjump.sim.rubble.x__boxes__mutmut_82": (
+        "out.flags.writeable = None",
+        "None sets the flag as False does",
+    ),
+    "locustjump.sim.rubble.x__height_grid__mutmut_131": (
+        "grid.flags.writeable = None",
+        "None sets the flag as False does",
+    ),
+    "locustjump.tasks.starts.x_ground_top__mutmut_11": (
+        "np.linspace(-bl, bl, 102)",
+        "101 points 0.02 body lengths apart look at every cell of the height "
+        "grid (HEIGHT_CELL_BL, 0.02); 102, a little closer, at every one too",
+    ),
+    "locustjump.sim.bvh.x_rebuild_bvh__mutmut_144": (
+        "np.finfo(None).eps",
+        "np.finfo(None) is float64's, as np.finfo(float)",
+    ),
+}
