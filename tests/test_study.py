@@ -100,6 +100,7 @@ def test_debris_table_scores_shipped_runs_on_held_out_terrains(tmp_path, capsys)
     [
         ("debris-composition-5seeds", 5),
         ("debris-composition", 15),
+        ("debris-composition-height", 5),
         ("repertoire-composition", 10),
     ],
 )
