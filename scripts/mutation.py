@@ -45,7 +45,7 @@ from pathlib import Path
 from typing import TypedDict
 
 from mutation_equivalent import EQUIVALENT
-from mutation_targets import FUNCTIONS, MODULES, NOT_COVERED, PART
+from mutation_targets import FUNCTIONS, MODULES, NO_OPENGL, NOT_COVERED, PART
 
 ROOT = Path(__file__).resolve().parent.parent
 SCRATCH = ROOT / ".mutation"
@@ -132,6 +132,8 @@ def run(module: str, max_children: int, survivors: bool) -> float:
     wd = prepare(module, fresh=not (survivors and same))
     env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
     env["NUMBA_CACHE_DIR"] = str(wd / "numba-cache")
+    if module in NO_OPENGL:
+        env["MUJOCO_GL"] = "disable"
     start = time.monotonic()
     with open(wd / "mutmut.log", "w") as log:
         rc = subprocess.call(

@@ -302,6 +302,15 @@ EQUIVALENT: dict[str, tuple[str, str]] = {
     "locustjump.sim.analysis.x_ground_profile__mutmut_9": ('kind="STABLE"', SORT_CASE),
     "locustjump.rundir.archive.x_read_archive__mutmut_122": ("else -2", _NOT_1D),
     "locustjump.rundir.archive.x_read_archive__mutmut_134": ('"XXiuXX"', _NO_KIND_X),
+    # envs.py: the action's check
+    "locustjump.envs.x__action__mutmut_5": (
+        '"XXiufXX"',
+        "NumPy has no dtype kind 'X': only 'i', 'u' and 'f' can match either way",
+    ),
+    "locustjump.envs.x__action__mutmut_28": (
+        "a.astype(None)",
+        "astype(None) casts to NumPy's default dtype, float64, as asked",
+    ),
     # the four reshape(-1) of the reader's arrays, each mutated to -2
     **{
         f"locustjump.rundir.archive.x_read_archive__mutmut_{n}": (

@@ -77,6 +77,8 @@ MODULES: dict[str, tuple[str, ...]] = {
     "sim/bvh.py": ("tests/test_bvh.py", "tests/test_debris.py"),
     "tasks/starts.py": ("tests/test_starts.py", "tests/test_recovery.py"),
     "sim/rubble.py": ("tests/test_rubble.py",),
+    # the Gymnasium environments (the gym extra): observation, action, reward
+    "envs.py": ("tests/test_envs_units.py", "tests/test_envs.py"),
     # the jumps, falls and heights every results table counts
     "sim/analysis.py": ("tests/test_analysis.py",),
     # a repertoire's file: written without pickle, read back only as written
@@ -190,6 +192,16 @@ FUNCTIONS: dict[str, tuple[str, ...]] = {
         "locustjump.tasks.ceiling.xǁOpenLoopǁ*",
         "locustjump.tasks.ceiling.x_apex_rise__mutmut_*",
     ),
+    # the environment but its frames: mutmut runs each mutant in a forked
+    # child, where EGL hangs (NO_OPENGL below), so no frame is drawn there
+    "envs.py": tuple(
+        f"locustjump.envs.xǁLocustEnvǁ{f}__mutmut_*"
+        for f in ("__init__", "model_params", "scene", "n_starts", "reset", "step")
+    )
+    + tuple(
+        f"locustjump.envs.x_{f}__mutmut_*"
+        for f in ("tasks", "_action", "register_envs")
+    ),
     # the seeds' parser, not the reproduction over seeds (tests/test_multiseed.py)
     "runs/multiseed.py": ("locustjump.runs.multiseed.x_parse_seeds__mutmut_*",),
     # the runs' states, costs and checks, not the training loop of the workers
@@ -295,11 +307,25 @@ another locustjump module but `cephes.py`'s functions, whose SHA-256 it
 carries (`tests/test_incallback.py` checks both), the modules above are
 plain NumPy, and each run starts with an empty Numba cache
 (`NUMBA_CACHE_DIR`) and a fresh copy of the package under `mutants/src`.
+
+`envs.py` is mutated all but its frames (`render`, `close`): mutmut runs
+each mutant in a forked child, and EGL hangs in a forked child (a renderer
+made in the parent, then one in the child, never returns), so the module's
+tests run there with MuJoCo's rendering off (`MUJOCO_GL=disable`).
+`tests/test_envs.py` draws a frame of each environment in the default run.
 """
+
+
+#: modules whose focused tests would render: mutmut forks a child per mutant
+#: and EGL hangs in a forked child (measured: a renderer made in the parent,
+#: then one in a child, never returns), so these run with MuJoCo's rendering
+#: off (``MUJOCO_GL=disable``; the tests check what they can without frames)
+NO_OPENGL = frozenset({"envs.py"})
 
 
 #: what the functions of :data:`FUNCTIONS` are, in the table
 PART = {
+    "envs.py": "all but its frames",
     "runs/study.py": "the runs' checks and costs",
     "runs/multiseed.py": "the seeds' parser",
     "present/evaluate.py": "its records",

@@ -98,33 +98,3 @@ def test_a_config_that_cannot_be_written_back_never_trains(tmp_path):
     with pytest.raises(TypeError, match="^generations must be an integer"):
         lj.train(TrainConfig(generations=1.5), tmp_path / "run")
     assert not (tmp_path / "run").exists()
-
-
-def test_the_environment_checks_its_actions_starts_and_frame_size():
-    pytest.importorskip("gymnasium", reason="extra locustjump[gym] not installed")
-    from locustjump.envs import LocustEnv
-
-    env = LocustEnv("kick")
-    env.reset(seed=0)
-    for bad, kind in [
-        (np.zeros((2, 2)), ValueError),  # 4 numbers, but not a (4,) action
-        (np.zeros(3), ValueError),
-        (np.zeros(4, dtype=complex), TypeError),
-        (np.array([0.0, np.nan, 0.0, 0.0]), ValueError),
-        (["a", "b", "c", "d"], TypeError),
-    ]:
-        with pytest.raises(kind, match="^action must be 4 finite real numbers"):
-            env.step(bad)
-    obs, *_ = env.step([0, 0, 0, 0])  # a list of integers is an action
-    assert obs.shape == env.observation_space.shape
-    for start, kind in [(1.7, TypeError), (True, TypeError), (1, ValueError),
-                        ("0", TypeError)]:  # fmt: skip
-        with pytest.raises(kind, match=r"^options\['start'\] must be an integer"):
-            env.reset(options={"start": start})
-    assert env.reset(options={"start": np.int64(0)})[1] == {"start": 0}
-    for size, kind in [({"width": 0}, ValueError), ({"height": 10**6}, ValueError),
-                       ({"width": 64.0}, TypeError)]:  # fmt: skip
-        with pytest.raises(kind, match=f"^{next(iter(size))} must be an integer"):
-            LocustEnv("kick", render_mode="rgb_array", **size)
-    with pytest.raises(ValueError, match="^camera must be one of track, side"):
-        LocustEnv("kick", camera="top")

@@ -112,7 +112,9 @@ class LocustEnv(gym.Env):
 
     **Termination**: when the simulation goes unstable (``info["unstable"]``);
     the last reward then brings the return to the task's worst fitness, as in
-    training. **Truncation**: after T steps (300, 1000, 1000, 3000).
+    training. **Truncation**: after T steps (300, 1000, 1000, 3000). After
+    either, and before the first ``reset()``, ``step()`` raises
+    ``RuntimeError``. An action beyond +-1 moves a target by 10 deg, no more.
 
     Any registered behaviour has an environment: ``LocustEnv("name")`` or
     ``LocustEnv(behaviour_object)``; one without a dense reward of its own
@@ -177,8 +179,8 @@ class LocustEnv(gym.Env):
             "camera", camera, (names.CAMERA_TRACK, names.CAMERA_SIDE)
         )
         self._renderer: Any = None  # a mujoco.Renderer once rendering
-        self._t = 0
-        self._return = 0.0
+        self._t = self.n_steps  # no episode until reset()
+        self._return: float  # of the episode so far (set by reset())
 
     @property
     def model_params(self) -> lm.LocustParams:
@@ -211,8 +213,9 @@ class LocustEnv(gym.Env):
         self, action: np.ndarray
     ) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
         if self._t >= self.n_steps:
-            raise RuntimeError("step() after the episode ended; call reset()")
-        a = np.clip(_action(action), -1.0, 1.0)
+            raise RuntimeError("step() before reset() or after the episode ended")
+        # beyond +-1 the servo's step is clipped to +-10 deg (sim.actuation)
+        a = _action(action)
         obs = self._episode.step(a.reshape(1, N_ACTUATORS) * MAX_DELTA)[0]
         self._t += 1
         info: dict[str, Any] = {"unstable": self._episode.unstable}
@@ -220,6 +223,7 @@ class LocustEnv(gym.Env):
             reward = self._behaviour.worst_fitness - self._return
             obs = np.clip(np.nan_to_num(obs), _OBS_LOW, _OBS_HIGH)
             terminated = True
+            self._t = self.n_steps  # the episode is over: step() refuses
         else:
             reward = self._reward.step(self._episode.data.qpos, obs)
             terminated = False
