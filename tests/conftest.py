@@ -28,6 +28,20 @@ def rng() -> np.random.Generator:
     return np.random.default_rng(1234)
 
 
+@pytest.fixture(scope="session")
+def render_problem(mjmodel) -> str | None:
+    """Why offscreen rendering fails here (one line), or None where a frame
+    can be drawn (no libegl1, or ``MUJOCO_GL=disable`` as the mutation runs
+    set it)."""
+    from locustjump.present.render import RenderUnavailable, make_renderer
+
+    try:
+        make_renderer(mjmodel, 32, 24).close()
+    except RenderUnavailable as e:
+        return str(e)
+    return None
+
+
 #: the shipped reproduction (genomes evolved by `locustjump reproduce`)
 SHIPPED = Path(__file__).resolve().parent.parent / "results" / "quick-seed0"
 

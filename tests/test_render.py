@@ -22,14 +22,10 @@ def _frames(path):
         return [r.get_data(i) for i in range(r.count_frames())]
 
 
-@pytest.fixture(scope="module")
-def can_render():
-    from locustjump.sim import model as lm
-
-    try:
-        render.make_renderer(lm.load_model(lm.LocustParams()), 32, 24).close()
-    except render.RenderUnavailable as e:
-        pytest.skip(f"no offscreen rendering here: {e}")
+@pytest.fixture
+def can_render(render_problem):
+    if render_problem is not None:
+        pytest.skip(f"no offscreen rendering here: {render_problem}")
 
 
 @pytest.fixture
