@@ -77,6 +77,8 @@ MODULES: dict[str, tuple[str, ...]] = {
     "sim/bvh.py": ("tests/test_bvh.py", "tests/test_debris.py"),
     "tasks/starts.py": ("tests/test_starts.py", "tests/test_recovery.py"),
     "sim/rubble.py": ("tests/test_rubble.py",),
+    # the paper's network: every genome is read through its layout
+    "sim/controller.py": ("tests/test_controller_units.py",),
     # the Gymnasium environments (the gym extra): observation, action, reward
     "envs.py": ("tests/test_envs_units.py", "tests/test_envs.py"),
     # the jumps, falls and heights every results table counts
