@@ -1,9 +1,11 @@
 """The equivalent mutants of the debris field's geometry (``sim/bvh.py``,
-``sim/rubble.py``) and the start states (``tasks/starts.py``), taken on
-2026-11-27, each with the reason (``scripts/mutation_equivalent.py`` adds
-them to the rest)."""
+``sim/rubble.py``), the start states (``tasks/starts.py``) and the engine's
+shared job (``sim/engine/job.py``), taken on 2026-11-27, each with the
+reason (``scripts/mutation_equivalent.py`` adds them to the rest)."""
 
-from mutation_reasons import alike
+from mutation_reasons import alike, zip_strict
+
+_JOB = "locustjump.sim.engine.job"
 
 SIM: dict[str, tuple[str, str]] = {
     # sim/bvh.py: NumPy's defaults, and what the tree's layout never reaches
@@ -71,6 +73,27 @@ SIM: dict[str, tuple[str, str]] = {
         "np.linspace(-bl, bl, 102)",
         "101 points 0.02 body lengths apart look at every cell of the height "
         "grid (HEIGHT_CELL_BL, 0.02); 102, a little closer, at every one too",
+    ),
+    # sim/engine/job.py: zips of equal lengths by construction, no-op casts
+    **zip_strict(
+        f"{_JOB}.xǁRecorderǁwrite",
+        (4, 7, 8),
+        "self._order, self._step",
+        "both are made from the same list of step records, one item each",
+    ),
+    **zip_strict(
+        f"{_JOB}.xǁRolloutJobǁsplit",
+        (42, 45, 49),
+        "bounds[:-1], bounds[1:]",
+        "two slices of one array, each one shorter than it",
+    ),
+    f"{_JOB}.x_contact_maxima__mutmut_6": (
+        "astype(None)",
+        "astype(None) casts to NumPy's default dtype, float64, as asked",
+    ),
+    f"{_JOB}.x_contact_maxima__mutmut_12": (
+        "cast(None, wall)",
+        "typing.cast does nothing when run: it only tells the type checker",
     ),
     "locustjump.sim.bvh.x_rebuild_bvh__mutmut_144": (
         "np.finfo(None).eps",

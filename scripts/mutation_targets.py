@@ -77,6 +77,8 @@ MODULES: dict[str, tuple[str, ...]] = {
     "sim/bvh.py": ("tests/test_bvh.py", "tests/test_debris.py"),
     "tasks/starts.py": ("tests/test_starts.py", "tests/test_recovery.py"),
     "sim/rubble.py": ("tests/test_rubble.py",),
+    # what every engine strategy shares: the unstable rule, a job, its records
+    "sim/engine/job.py": ("tests/test_job_units.py",),
     # the paper's network: every genome is read through its layout
     "sim/controller.py": ("tests/test_controller_units.py",),
     # the Gymnasium environments (the gym extra): observation, action, reward

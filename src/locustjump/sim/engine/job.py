@@ -151,7 +151,9 @@ class RolloutJob:
         return int(self.params.shape[0])
 
     def split(self, k: int) -> list[RolloutJob]:
-        """At most ``k`` contiguous sub-jobs covering all episodes, in order."""
+        """At most ``k`` contiguous sub-jobs covering all episodes, in order,
+        none empty: the bounds are at least one episode apart before rounding,
+        so they stay strictly increasing after it."""
         bounds = np.linspace(0, self.n_episodes, min(k, self.n_episodes) + 1)
         bounds = bounds.round().astype(int)
         return [
@@ -167,7 +169,6 @@ class RolloutJob:
                 self.scene,
             )
             for a, b in zip(bounds[:-1], bounds[1:], strict=True)
-            if b > a
         ]
 
 
