@@ -1,7 +1,8 @@
 """The equivalent mutants of the debris field's geometry (``sim/bvh.py``,
 ``sim/rubble.py``), the start states (``tasks/starts.py``) and the engine's
-shared job (``sim/engine/job.py``), taken on 2026-11-27, each with the
-reason (``scripts/mutation_equivalent.py`` adds them to the rest)."""
+shared job and reference episode (``sim/engine/job.py``, ``episode.py``),
+taken on 2026-11-27, each with the reason (``scripts/mutation_equivalent.py``
+adds them to the rest)."""
 
 from mutation_reasons import alike, zip_strict
 
@@ -73,6 +74,24 @@ SIM: dict[str, tuple[str, str]] = {
         "np.linspace(-bl, bl, 102)",
         "101 points 0.02 body lengths apart look at every cell of the height "
         "grid (HEIGHT_CELL_BL, 0.02); 102, a little closer, at every one too",
+    ),
+    # sim/engine/episode.py: row 0 written to every row (the index None adds an
+    # axis), each row after it written again by its own step or filled
+    **alike(
+        "locustjump.sim.engine.episode.x_reference_rollout",
+        "None as a row or episode index writes the start's values to every "
+        "row of the one episode; each later row is written again by its own "
+        "step, or by fill_from when the episode stops",
+        {
+            39: "rec.write(None, d.qpos[None]",
+            50: "rec.write_contacts(None, 0",
+            51: "rec.write_contacts(0, None",
+        },
+    ),
+    "locustjump.sim.engine.episode.xǁEpisodeǁ_contacts__mutmut_7": (
+        "if n else 1.0",
+        "without a contact the distance only feeds depth(), which reads any "
+        "distance >= 0 as no penetration",
     ),
     # sim/engine/job.py: zips of equal lengths by construction, no-op casts
     **zip_strict(

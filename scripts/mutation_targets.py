@@ -79,6 +79,12 @@ MODULES: dict[str, tuple[str, ...]] = {
     "sim/rubble.py": ("tests/test_rubble.py",),
     # what every engine strategy shares: the unstable rule, a job, its records
     "sim/engine/job.py": ("tests/test_job_units.py",),
+    # one episode on one MjData: the reference loop and the environments' step
+    "sim/engine/episode.py": (
+        "tests/test_episode_units.py",
+        "tests/test_rollout.py",
+        "tests/test_envs_units.py",
+    ),
     # the paper's network: every genome is read through its layout
     "sim/controller.py": ("tests/test_controller_units.py",),
     # the Gymnasium environments (the gym extra): observation, action, reward
