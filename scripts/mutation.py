@@ -263,6 +263,20 @@ def previous_doc() -> tuple[dict[str, Kept], str]:
     return kept, last.group(0) + "\n" if last else ""
 
 
+def not_mutated() -> str:
+    """The package's modules outside the table: what no mutant has checked
+    yet (a paragraph of the page; names only, so that the page changes when
+    a module is added or mutated, not whenever one is edited)."""
+    src = ROOT / "src" / "locustjump"
+    every = sorted(str(f.relative_to(src)) for f in src.rglob("*.py"))
+    left = [m for m in every if m not in MODULES]
+    return (
+        f"Not in the table: {len(left)} of the package's {len(every)} modules, "
+        + ", ".join(f"`{m}`" for m in left)
+        + ".\n"
+    )
+
+
 def write_doc(results: dict[str, Summary | None]) -> None:
     """``docs/mutation.md`` from ``results``; a module without results here
     keeps its row and its mutants from the page as it stands."""
@@ -321,6 +335,8 @@ def write_doc(results: dict[str, Summary | None]) -> None:
         + "\n".join(rows)
         + "\n\n"
         + NOT_COVERED
+        + "\n"
+        + not_mutated()
         + "\n## Equivalent and surviving mutants\n\n"
         "Equivalent: no test can tell the mutant from the original (the reason\n"
         "says why). `scripts/mutation.py` matches each listed mutant by its\n"

@@ -100,3 +100,14 @@ def test_without_a_page_a_module_not_run_says_so(page):
     page.unlink()
     mutation.write_doc({m: None for m in mutation.MODULES})
     assert page.read_text().count("| not run |") == len(mutation.MODULES)
+
+
+def test_the_page_names_every_module_outside_the_table(monkeypatch):
+    src = REPO / "src" / "locustjump"
+    every = {str(f.relative_to(src)) for f in src.rglob("*.py")}
+    text = mutation.not_mutated()
+    outside = set(re.findall(r"`([^`]+)`", text))
+    assert outside == every - set(mutation.MODULES)
+    assert f"{len(outside)} of the package's {len(every)} modules" in text
+    monkeypatch.setitem(mutation.MODULES, "cli/parser.py", ())
+    assert "`cli/parser.py`" not in mutation.not_mutated()
