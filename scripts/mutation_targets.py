@@ -85,6 +85,10 @@ MODULES: dict[str, tuple[str, ...]] = {
         "tests/test_rollout.py",
         "tests/test_envs_units.py",
     ),
+    # the behaviours' registry: every name the command line and plugins use
+    "tasks/__init__.py": ("tests/test_tasks_registry.py",),
+    # the thread backend: its thread count and its cached batches
+    "sim/engine/threads.py": ("tests/test_threads_units.py",),
     # the paper's network: every genome is read through its layout
     "sim/controller.py": ("tests/test_controller_units.py",),
     # the Gymnasium environments (the gym extra): observation, action, reward
