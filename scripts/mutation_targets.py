@@ -89,6 +89,9 @@ MODULES: dict[str, tuple[str, ...]] = {
     "tasks/__init__.py": ("tests/test_tasks_registry.py",),
     # the thread backend: its thread count and its cached batches
     "sim/engine/threads.py": ("tests/test_threads_units.py",),
+    # where and how a rollout runs, chosen by name
+    "sim/engine/backends.py": ("tests/test_backends_units.py",),
+    "sim/engine/strategies.py": ("tests/test_backends_units.py",),
     # the paper's network: every genome is read through its layout
     "sim/controller.py": ("tests/test_controller_units.py",),
     # the Gymnasium environments (the gym extra): observation, action, reward
