@@ -1,12 +1,13 @@
 """The equivalent mutants of the debris field's geometry (``sim/bvh.py``,
 ``sim/rubble.py``), the start states (``tasks/starts.py``) and the engine's
-shared job and reference episode (``sim/engine/job.py``, ``episode.py``),
-taken on 2026-11-27, each with the reason (``scripts/mutation_equivalent.py``
-adds them to the rest)."""
+shared job, reference episode and loop (``sim/engine/job.py``,
+``episode.py``, ``loop.py``, ``numpy_step.py``), taken on 2026-11-27, each
+with the reason (``scripts/mutation_equivalent.py`` adds them to the rest)."""
 
 from mutation_reasons import alike, zip_strict
 
 _JOB = "locustjump.sim.engine.job"
+_LOOP = "locustjump.sim.engine.loop"
 
 SIM: dict[str, tuple[str, str]] = {
     # sim/bvh.py: NumPy's defaults, and what the tree's layout never reaches
@@ -92,6 +93,81 @@ SIM: dict[str, tuple[str, str]] = {
         "if n else 1.0",
         "without a contact the distance only feeds depth(), which reads any "
         "distance >= 0 as no penetration",
+    ),
+    # sim/engine/loop.py and numpy_step.py: flags read only for their truth,
+    # buffers given or made, writes that select no episode, an action no
+    # physics follows
+    **alike(
+        f"{_LOOP}.x_begin",
+        "row 0 is recorded without a check (the sub is not read) and before "
+        "any episode stopped: None reads as False, an empty or one-row sub "
+        "alike, and 'stopped' with every episode live writes the same targets",
+        {
+            28: "np.empty((1, job.model_params.substeps",
+            30: "step(0, None, no_sub",
+            33: "np.arange(job.n_episodes), None, True)",
+            44: "np.arange(job.n_episodes), True, True)",
+        },
+    ),
+    **alike(
+        f"{_LOOP}.x_run_steps",
+        "a flag read only for its truth: None reads as False",
+        {150: "step(t + 1, None, no_sub", 55: "stopped = None"},
+    ),
+    **alike(
+        f"{_LOOP}.x_run_steps",
+        "the action after the last control step is applied to simulations "
+        "that are not stepped again, after the last row is recorded: nothing "
+        "reads it",
+        {104: "act = t - 1 < T", 106: "act = t + 1 <= T"},
+    ),
+    f"{_LOOP}.x_run_steps__mutmut_126": (
+        "newly[errors] = ~unstable[errors]",
+        "newly is never set where unstable is, so '|=' and '=' agree there",
+    ),
+    **alike(
+        f"{_LOOP}.x_run_steps",
+        "until an episode stops none is unstable, so freezing the unstable "
+        "ones freezes none",
+        {168: "frozen = unstable if (stopped) or True"},
+    ),
+    "locustjump.sim.engine.numpy_step.xǁNumpyStepǁ__call____mutmut_31": (
+        "frozen = self.unstable if (stopped) or True",
+        "until an episode stops none is unstable, so freezing the unstable "
+        "ones freezes none",
+    ),
+    f"{_LOOP}.x_run_steps__mutmut_18": (
+        "if (records_contacts(job)) or True",
+        "the contact rows are written only into the records the job keeps "
+        "(Recorder.write_contacts skips a field not recorded)",
+    ),
+    **alike(
+        f"{_LOOP}.x_run_steps",
+        "after a failed call no episode is selected (live[:0]), so no value "
+        "is written, whatever it is",
+        {
+            185: "live[:0], None, empty",
+            186: "empty, None, np.ones",
+            38: "empty = None",
+            40: "empty = np.empty(1)",
+        },
+    ),  # fmt: skip
+    **alike(
+        f"{_LOOP}.x_run_steps",
+        "the sensordata buffer is reused, not needed: without it (or under "
+        "another name) mujoco.batch allocates the same values anew",
+        {
+            48: "sub = None",
+            49: '"XXsensordataXX"',
+            50: '"SENSORDATA"',
+            80: "out=None)",
+            83: 'record=("sensordata",), )',
+        },
+    ),  # fmt: skip
+    f"{_LOOP}.x_run_steps__mutmut_56": (
+        "stopped = True",
+        "'stopped' with every episode live: the rollout of ids (all of them) "
+        "and the indexed writes give what the whole-batch ones do",
     ),
     # sim/engine/job.py: zips of equal lengths by construction, no-op casts
     **zip_strict(

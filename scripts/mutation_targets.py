@@ -92,6 +92,9 @@ MODULES: dict[str, tuple[str, ...]] = {
     # where and how a rollout runs, chosen by name
     "sim/engine/backends.py": ("tests/test_backends_units.py",),
     "sim/engine/strategies.py": ("tests/test_backends_units.py",),
+    # the engine's one loop and its NumPy control step (the reference strategy)
+    "sim/engine/loop.py": ("tests/test_loop_units.py", "tests/test_rollout.py"),
+    "sim/engine/numpy_step.py": ("tests/test_loop_units.py", "tests/test_rollout.py"),
     # the paper's network: every genome is read through its layout
     "sim/controller.py": ("tests/test_controller_units.py",),
     # the Gymnasium environments (the gym extra): observation, action, reward
