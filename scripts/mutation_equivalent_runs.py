@@ -156,6 +156,12 @@ RUNS: dict[str, tuple[str, str]] = {
         "lstrip takes a set of characters: X and - strip an option's leading "
         "dashes alike (no option starts with X)",
     ),
+    **alike(
+        "locustjump.cli.console.xǁConsoleǁemit",
+        "print writes to sys.stdout as it is at the call when given no file "
+        "or None",
+        {9: "print(text, file=None)", 11: "print(text, )"},
+    ),
     "locustjump.cli.interrupts.x__handler__mutmut_12": (
         "_received.append(None)",
         "received() reads only whether a signal came, not which",

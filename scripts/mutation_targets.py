@@ -97,6 +97,8 @@ MODULES: dict[str, tuple[str, ...]] = {
     "sim/engine/numpy_step.py": ("tests/test_loop_units.py", "tests/test_rollout.py"),
     # Ctrl-C and SIGTERM: a command stops, says so, and resumes
     "cli/interrupts.py": ("tests/test_interrupts_units.py",),
+    # where the command line shows the library's log records
+    "cli/console.py": ("tests/test_console_units.py",),
     # the paper's network: every genome is read through its layout
     "sim/controller.py": ("tests/test_controller_units.py",),
     # the Gymnasium environments (the gym extra): observation, action, reward
