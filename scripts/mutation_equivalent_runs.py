@@ -158,8 +158,7 @@ RUNS: dict[str, tuple[str, str]] = {
     ),
     **alike(
         "locustjump.cli.console.xǁConsoleǁemit",
-        "print writes to sys.stdout as it is at the call when given no file "
-        "or None",
+        "print writes to sys.stdout as it is at the call when given no file or None",
         {9: "print(text, file=None)", 11: "print(text, )"},
     ),
     "locustjump.cli.interrupts.x__handler__mutmut_12": (
