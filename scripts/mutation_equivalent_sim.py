@@ -7,9 +7,102 @@ with the reason (``scripts/mutation_equivalent.py`` adds them to the rest)."""
 from mutation_reasons import alike, zip_strict
 
 _JOB = "locustjump.sim.engine.job"
+_CREATURE = "locustjump.sim.creature"
+_TEXT = (
+    "MuJoCo's XML reader ignores text between elements: the document compiles "
+    "to the same model"
+)
+_MIRROR = "dividing by 1 or -1 is multiplying by it, exactly"
 _LOOP = "locustjump.sim.engine.loop"
 
 SIM: dict[str, tuple[str, str]] = {
+    # sim/creature.py: the MJCF's text, and what only a direction is read of
+    **alike(
+        f"{_CREATURE}.x_creature_mjcf",
+        _TEXT,
+        {
+            5: 'legs = "XXXX".join(',
+            56: 'servos = "XXXX".join(',
+            66: 'touch = "XXXX".join(',
+            84: 'assets=\'XX<material name="cuticle"',
+            86: '\'XX    <material name="leg"',
+        },
+    ),
+    **alike(f"{_CREATURE}.x__defaults", _TEXT, {9: '"XXXX"'}),
+    **alike(
+        f"{_CREATURE}.x__defaults",
+        "rigid struts are geoms of the body, with no joint: the strut class's "
+        "joint default, written or not, is never used",
+        {7: "if (p.strut_stiffness == 0) and False"},
+    ),
+    **zip_strict(
+        f"{_CREATURE}.x_creature_mjcf",
+        (59, 62, 63),
+        "names.ACTUATORS, names.ACTUATED_JOINTS",
+        "one servo per actuated joint: names.ACTUATORS is made from that tuple",
+    ),
+    **zip_strict(
+        f"{_CREATURE}.x_creature_mjcf",
+        (69, 72, 73),
+        "names.TOUCH_SENSORS, names.TARSUS_SITES",
+        "two constant tuples of two names each, one per side",
+    ),
+    **alike(f"{_CREATURE}.x__hind_leg", _MIRROR, {3: "s / np.array([1, sign, 1])"}),
+    **alike(
+        f"{_CREATURE}.x__strut",
+        _MIRROR,
+        {3: "s / np.array([1, sign, 1])", 10: "_unit(direction) / np.array"},
+    ),
+    **alike(
+        f"{_CREATURE}.x__strut",
+        "MuJoCo normalises a hinge's axis: a longer one is the same axis",
+        {42: "np.cross(d, (0.0, 0.0, 2.0))"},
+    ),
+    **alike(
+        f"{_CREATURE}.x__unit",
+        "only a direction is read of it: a strut ends at a + d * drop / -d_z, "
+        "the same point for any length of d, and MuJoCo normalises a joint axis",
+        {7: "a * np.linalg.norm(a)"},
+    ),
+    **alike(
+        f"{_CREATURE}.x__unit",
+        "its callers pass tuples of floats, which NumPy makes float64 arrays",
+        {3: "np.asarray(v, None)", 5: "np.asarray(v, )"},
+    ),
+    # sim/model.py: text MuJoCo ignores, a default it holds, and the flat
+    # document the keyframe is settled in (made twice alike, or with a key)
+    **alike(
+        "locustjump.sim.model.x_to_mjcf",
+        _TEXT,
+        {
+            9: 'pairs = "XXXX".join(',
+            16: "flags = 'XX\\n    <flag",
+            18: 'if world.broad_phase else "XXXX"',
+        },
+    ),
+    **alike(
+        "locustjump.sim.model.x_to_mjcf",
+        "MuJoCo's default fifth friction coefficient of a pair is 0.0001, the "
+        "value written",
+        {29: "0.005, 0.0001)}", 30: "0.005, 0.0001, )}"},
+    ),
+    **alike(
+        "locustjump.sim.model.x_to_mjcf",
+        "on the flat floor the document without a keyframe is the one just "
+        "written; with a keyframe, the settling does not read it (it starts "
+        "from the written pose)",
+        {
+            44: "if (scene.is_flat) and False else",
+            47: "to_mjcf(p, keyframe=None)",
+            49: "to_mjcf(p, )",
+            50: "to_mjcf(p, keyframe=True)",
+        },
+    ),
+    **alike(
+        f"{_CREATURE}.x_leg_tip",
+        "angles 2 pi apart: the same sine and cosine (to rounding, 1e-16 m)",
+        {5: "t = h + math.pi + math.radians(knee_deg)"},
+    ),
     # sim/bvh.py: NumPy's defaults, and what the tree's layout never reaches
     **alike(
         "locustjump.sim.bvh.x__split",

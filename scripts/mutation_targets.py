@@ -181,6 +181,14 @@ MODULES: dict[str, tuple[str, ...]] = {
     "tasks/reference.py": ("tests/test_rules_outcome.py",),
     # the kick's ceiling: the open-loop controller and the apex rise
     "tasks/ceiling.py": ("tests/test_open_loop.py",),
+    # the creature itself: its geometry, masses, joints, servos and sensors
+    "sim/creature.py": ("tests/test_creature_units.py", "tests/test_scene.py"),
+    # the document around it: solver, contact model, sensors, the keyframe
+    "sim/model.py": (
+        "tests/test_model_units.py",
+        "tests/test_creature_units.py",
+        "tests/test_scene.py",
+    ),
 }
 
 #: modules of which only some functions are mutated (mutmut's name patterns):

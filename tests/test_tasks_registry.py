@@ -95,3 +95,16 @@ def test_get_behaviour_hands_on_its_arguments():
     assert getup.options is options and getup.terrains is terrains
     np.testing.assert_array_equal(getup.frozen, frozen)
     assert isinstance(getup, Behaviour)
+
+
+def test_the_monolithic_network_is_the_composed_task_as_one_network():
+    """Its episode and fitness are the composed task's; what it records when
+    evaluated has no switcher memory (it has none), and it is the behaviour
+    behind the successive-jumping Gymnasium environment."""
+    from locustjump.tasks.composed import Successive
+
+    mono, composed = get_behaviour("monolithic"), get_behaviour("composed")
+    assert isinstance(mono, Successive) and type(mono).name == "monolithic"
+    assert mono.eval_record == ("qpos", "obs", "ctrl")
+    assert composed.eval_record == ("qpos", "obs", "ctrl", "memory")
+    assert mono.gym_id == "LocustSuccessiveJump-v0" and composed.gym_id is None
