@@ -99,6 +99,27 @@ SIM: dict[str, tuple[str, str]] = {
         },
     ),
     **alike(
+        "locustjump.sim.engine.rollout.x_rollout",
+        "a rollout's memory counts the creature's records and MuJoCo's arena, "
+        "the same in every scene here (checked on the debris field)",
+        {35: "lm.load_model(model_params, ), params.shape[0] * k"},
+    ),
+    **alike(
+        "locustjump.sim.engine.mjlayout.x_offsets",
+        "the struct is cut after the last of the fields named in mjData's "
+        "order, sensordata: the others come before it, named or not",
+        {
+            8: '_struct("mjData", "ctrl", "sensordata", "userdata")',
+            9: '_struct("mjData", "qpos", "sensordata", "userdata")',
+            11: '"sensordata", )',
+        },
+    ),
+    **alike(
+        "locustjump.sim.engine.mjlayout.x_offsets",
+        _TEXT,
+        {35: "'XX<joint name=", 37: "'XX<actuator>"},
+    ),
+    **alike(
         f"{_CREATURE}.x_leg_tip",
         "angles 2 pi apart: the same sine and cosine (to rounding, 1e-16 m)",
         {5: "t = h + math.pi + math.radians(knee_deg)"},

@@ -189,6 +189,10 @@ MODULES: dict[str, tuple[str, ...]] = {
         "tests/test_creature_units.py",
         "tests/test_scene.py",
     ),
+    # the engine's entry point: the job it builds, the memory it checks first
+    "sim/engine/rollout.py": ("tests/test_rollout_units.py", "tests/test_rollout.py"),
+    # the raw offsets the compiled callback reads, or None: that path off
+    "sim/engine/mjlayout.py": ("tests/test_mjlayout.py",),
 }
 
 #: modules of which only some functions are mutated (mutmut's name patterns):

@@ -60,17 +60,19 @@ def offsets(nuserdata: int) -> tuple[int, int, int, int, int, int] | None:
         mujoco.mj_forward(m, d)
         raw = data.from_address(d._address)
         mraw = model.from_address(m._address)
-        ok = (
-            raw.qpos == d.qpos.ctypes.data
-            and raw.ctrl == d.ctrl.ctypes.data
-            and raw.sensordata == d.sensordata.ctypes.data
-            and raw.userdata == d.userdata.ctypes.data
-            and mraw.nuserdata == nuserdata
-            and data.warning.offset == d.warning.number.ctypes.data - d._address - 4
+        # (read through the offsets, known): each must match
+        pairs = (
+            (raw.qpos, d.qpos.ctypes.data),
+            (raw.ctrl, d.ctrl.ctypes.data),
+            (raw.sensordata, d.sensordata.ctypes.data),
+            (raw.userdata, d.userdata.ctypes.data),
+            (mraw.nuserdata, nuserdata),
+            # warning[0].number, 4 bytes into the array of {lastinfo, number}
+            (data.warning.offset, d.warning.number.ctypes.data - d._address - 4),
         )
     except Exception:  # an unknown type or layout: this path is off
         return None
-    if not ok:
+    if not all(read == known for read, known in pairs):
         return None
     fields = ("qpos", "ctrl", "sensordata", "userdata", "warning")
     return (*(getattr(data, f).offset for f in fields), model.nuserdata.offset)
