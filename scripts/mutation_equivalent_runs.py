@@ -14,6 +14,17 @@ _FLOATS = (
 _BAR = "how the bar is drawn on a terminal, not what it says (tests write to a pipe)"
 
 RUNS: dict[str, tuple[str, str]] = {
+    # runs/reproduction.py
+    **alike(
+        "locustjump.runs.reproduction.xǁReproductionǁcommand",
+        "a scene without a seed: None, as 0, reads as no seed",
+        {37: 'getattr(t.scene, "seed", None)'},
+    ),
+    **alike(
+        "locustjump.runs.reproduction.xǁReproductionǁtrain_config",
+        "TrainConfig's model is LocustParams() by default",
+        {20: "engine=self.engine,"},
+    ),
     "locustjump.rundir.arrays.x_scalar__mutmut_13": ('"XXiuXX"', _NO_KIND_X),
     "locustjump.rundir.arrays.x_plain__mutmut_4": (
         '"XXbiufUXX"',

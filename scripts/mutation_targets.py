@@ -193,11 +193,36 @@ MODULES: dict[str, tuple[str, ...]] = {
     "sim/engine/rollout.py": ("tests/test_rollout_units.py", "tests/test_rollout.py"),
     # the raw offsets the compiled callback reads, or None: that path off
     "sim/engine/mjlayout.py": ("tests/test_mjlayout.py",),
+    # what a reproduction of the paper is: budgets, stages, checks, command
+    "runs/reproduction.py": ("tests/test_reproduction_units.py",),
 }
 
 #: modules of which only some functions are mutated (mutmut's name patterns):
 #: a task's fitness, not its episode set-up or its report
 FUNCTIONS: dict[str, tuple[str, ...]] = {
+    # a reproduction's budgets, checks, command and markers, not its training
+    # of a stage (tests/test_reproduce.py)
+    "runs/reproduction.py": (
+        "locustjump.runs.reproduction.xǁBudgetǁ*",
+        *(
+            f"locustjump.runs.reproduction.xǁReproductionǁ{f}__mutmut_*"
+            for f in (
+                "open",
+                "seed_dir",
+                "for_seed",
+                "command",
+                "marker",
+                "check",
+                "start",
+                "stage_done",
+                "train_config",
+            )
+        ),  # fmt: skip
+        *(
+            f"locustjump.runs.reproduction.x_{f}__mutmut_*"
+            for f in ("budget_of", "stages_of", "requires", "_read_marker")
+        ),
+    ),
     # the groups and the table, not the figure's drawing
     "present/compare.py": tuple(
         f"locustjump.present.compare.x_{f}__mutmut_*"
@@ -361,6 +386,7 @@ NO_OPENGL = frozenset({"envs.py"})
 
 #: what the functions of :data:`FUNCTIONS` are, in the table
 PART = {
+    "runs/reproduction.py": "all but training a stage",
     "envs.py": "all but its frames",
     "runs/study.py": "the runs' checks and costs",
     "runs/multiseed.py": "the seeds' parser",
