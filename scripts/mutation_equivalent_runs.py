@@ -3,7 +3,7 @@
 scenes), each with the reason (``scripts/mutation_equivalent.py`` adds them
 to the rest)."""
 
-from mutation_reasons import alike
+from mutation_reasons import alike, zip_strict
 
 #: dtype kinds
 _NO_KIND_X = "NumPy has no dtype kind 'X': only 'i' and 'u' can match either way"
@@ -14,6 +14,42 @@ _FLOATS = (
 _BAR = "how the bar is drawn on a terminal, not what it says (tests write to a pipe)"
 
 RUNS: dict[str, tuple[str, str]] = {
+    # present/stages: the words of results.md
+    **alike(
+        "locustjump.present.stages.successive.x__composed_reason",
+        "str.rsplit splits at runs of whitespace with None, at each single "
+        "space with ' ': a label's words are one space apart",
+        {10: "rsplit(None, 1)"},
+    ),
+    **alike(
+        "locustjump.present.stages.successive.x__composed_reason",
+        "the branch above took exactly one: here there are none or more than one",
+        {19: "elif len(chosen) >= 1:"},
+    ),
+    **alike(
+        "locustjump.present.stages.successive.x__composed_reason",
+        "a record without final_up_z is read as upright: 1.0 and 2.0 are both >= 0",
+        {60: 'c.get("final_up_z", 2.0)'},
+    ),
+    **alike(
+        "locustjump.present.stages.successive.xǁComposedReporterǁclaims",
+        "no ratios, as an empty list or as None, is nothing to compare",
+        {
+            17: 'c.get("apex_ratios_to_rules", None)',
+            19: 'c.get("apex_ratios_to_rules", )',
+        },
+    ),
+    **alike(
+        "locustjump.present.stages.successive.xǁMonolithicReporterǁacross_seeds",
+        "float() reads 'nan' case-insensitively",
+        {29: 'float("NAN")'},
+    ),
+    **zip_strict(
+        "locustjump.present.stages.successive.xǁMonolithicReporterǁacross_seeds",
+        (43, 46, 47),
+        "pairs.items(), ratios",
+        "the ratios are made from the pairs, one each",
+    ),
     # runs/reproduction.py
     **alike(
         "locustjump.runs.reproduction.xǁReproductionǁcommand",

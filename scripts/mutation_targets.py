@@ -195,11 +195,49 @@ MODULES: dict[str, tuple[str, ...]] = {
     "sim/engine/mjlayout.py": ("tests/test_mjlayout.py",),
     # what a reproduction of the paper is: budgets, stages, checks, command
     "runs/reproduction.py": ("tests/test_reproduction_units.py",),
+    # the verdicts of results.md: each claim of the paper, its criterion and
+    # why a run misses it; the composition question over seeds
+    "present/stages/base.py": ("tests/test_claims_units.py",),
+    "present/stages/__init__.py": ("tests/test_claims_units.py",),
+    "present/stages/kick.py": ("tests/test_claims_units.py",),
+    "present/stages/getup.py": ("tests/test_claims_units.py",),
+    "present/stages/return_legs.py": ("tests/test_claims_units.py",),
+    "present/stages/successive.py": ("tests/test_claims_units.py",),
 }
 
 #: modules of which only some functions are mutated (mutmut's name patterns):
 #: a task's fitness, not its episode set-up or its report
 FUNCTIONS: dict[str, tuple[str, ...]] = {
+    # the claims and their reasons, not the figures or the get-up sweep
+    "present/stages/base.py": (
+        "locustjump.present.stages.base.xǁClaimǁ*",
+        "locustjump.present.stages.base.x_yes__mutmut_*",
+        "locustjump.present.stages.base.x_fmt__mutmut_*",
+        *(
+            f"locustjump.present.stages.base.xǁReporterǁ{f}__mutmut_*"
+            for f in ("claims", "report_section", "across_seeds")
+        ),
+    ),
+    "present/stages/kick.py": (
+        "locustjump.present.stages.kick.xǁKickReporterǁclaims__mutmut_*",
+        "locustjump.present.stages.kick.x__reason__mutmut_*",
+        "locustjump.present.stages.kick.xǁCeilingReporterǁclaims__mutmut_*",
+    ),
+    "present/stages/getup.py": (
+        "locustjump.present.stages.getup.xǁGetUpReporterǁclaims__mutmut_*",
+    ),
+    "present/stages/return_legs.py": (
+        "locustjump.present.stages.return_legs.xǁReturnLegsReporterǁclaims__mutmut_*",
+        "locustjump.present.stages.return_legs.x__reason__mutmut_*",
+    ),
+    "present/stages/successive.py": (
+        "locustjump.present.stages.successive.xǁComposedReporterǁclaims__mutmut_*",
+        "locustjump.present.stages.successive.xǁMonolithicReporterǁ*",
+        *(
+            f"locustjump.present.stages.successive.x_{f}__mutmut_*"
+            for f in ("_jumps", "_composed_reason", "sign_test")
+        ),
+    ),
     # a reproduction's budgets, checks, command and markers, not its training
     # of a stage (tests/test_reproduce.py)
     "runs/reproduction.py": (
@@ -386,6 +424,11 @@ NO_OPENGL = frozenset({"envs.py"})
 
 #: what the functions of :data:`FUNCTIONS` are, in the table
 PART = {
+    "present/stages/base.py": "the claim, its words",
+    "present/stages/kick.py": "its claim",
+    "present/stages/getup.py": "its claims",
+    "present/stages/return_legs.py": "its claim",
+    "present/stages/successive.py": "claims, composition",
     "runs/reproduction.py": "all but training a stage",
     "envs.py": "all but its frames",
     "runs/study.py": "the runs' checks and costs",

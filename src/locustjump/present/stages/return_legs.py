@@ -72,7 +72,8 @@ def _reason(final: dict[str, float], start: dict[str, float]) -> str:
     rest = [j for j in final if j not in off]
     if rest:
         worst = max(final[j] for j in rest)
-        parts.append(f"{', '.join(rest)} end within {worst:.2f} deg")
+        verb = "ends" if len(rest) == 1 else "end"
+        parts.append(f"{', '.join(rest)} {verb} within {worst:.2f} deg")
     return (
         "; ".join(parts)
         + f": the network has not learnt to bring {' and '.join(off)} back"
