@@ -3,7 +3,7 @@
 scenes), each with the reason (``scripts/mutation_equivalent.py`` adds them
 to the rest)."""
 
-from mutation_reasons import alike, zip_strict
+from mutation_reasons import alike, cast, zip_strict
 
 #: dtype kinds
 _NO_KIND_X = "NumPy has no dtype kind 'X': only 'i' and 'u' can match either way"
@@ -14,6 +14,14 @@ _FLOATS = (
 _BAR = "how the bar is drawn on a terminal, not what it says (tests write to a pipe)"
 
 RUNS: dict[str, tuple[str, str]] = {
+    # present/results.py
+    **cast(
+        "locustjump.present.results.x__spread",
+        (6, 8),
+        "np.asarray(values, )",
+        "_num prints an integer array's median, min and max as it prints the "
+        "same numbers as floats",
+    ),
     # present/stages: the words of results.md
     **alike(
         "locustjump.present.stages.successive.x__composed_reason",

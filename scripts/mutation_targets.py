@@ -203,11 +203,26 @@ MODULES: dict[str, tuple[str, ...]] = {
     "present/stages/getup.py": ("tests/test_claims_units.py",),
     "present/stages/return_legs.py": ("tests/test_claims_units.py",),
     "present/stages/successive.py": ("tests/test_claims_units.py",),
+    # results.md's numbers, budget table, reasons and held-out section
+    "present/results.py": ("tests/test_results_units.py",),
 }
 
 #: modules of which only some functions are mutated (mutmut's name patterns):
 #: a task's fitness, not its episode set-up or its report
 FUNCTIONS: dict[str, tuple[str, ...]] = {
+    # what reads no directory (the rest: tests/test_reproduce.py)
+    "present/results.py": tuple(
+        f"locustjump.present.results.x_{f}__mutmut_*"
+        for f in (
+            "minutes",
+            "_budget_table",
+            "_whys",
+            "_num",
+            "_spread",
+            "_seeds",
+            "held_out_markdown",
+        )
+    ),  # fmt: skip
     # the claims and their reasons, not the figures or the get-up sweep
     "present/stages/base.py": (
         "locustjump.present.stages.base.xǁClaimǁ*",
@@ -424,6 +439,7 @@ NO_OPENGL = frozenset({"envs.py"})
 
 #: what the functions of :data:`FUNCTIONS` are, in the table
 PART = {
+    "present/results.py": "what reads no directory",
     "present/stages/base.py": "the claim, its words",
     "present/stages/kick.py": "its claim",
     "present/stages/getup.py": "its claims",
