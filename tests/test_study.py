@@ -102,6 +102,7 @@ def test_debris_table_scores_shipped_runs_on_held_out_terrains(tmp_path, capsys)
         ("debris-composition", 15),
         ("debris-composition-height", 5),
         ("repertoire-composition", 10),
+        ("repertoire-composition-debris", 15),
     ],
 )
 def test_science_md_tables_are_the_shipped_studies(study, n):
